@@ -1,0 +1,118 @@
+/* ----------------------------------------------------------------------
+   fix damp/local: PFC-style local damping (SPEC section 2).
+------------------------------------------------------------------------- */
+
+#include "fix_damp_local.h"
+
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "atom.h"
+#include "crush_damping_kernel.h"
+#include "error.h"
+#include "force.h"
+#include "modify.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+/* ---------------------------------------------------------------------- */
+
+FixDampLocal::FixDampLocal(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg),
+  alpha_(-1.0)
+{
+  // fix ID group damp/local alpha A
+  int iarg = 3;
+  while (iarg < narg) {
+    if (strcmp(arg[iarg], "alpha") == 0) {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "fix damp/local: keyword 'alpha' needs a value in [0, 1)");
+      char *end = NULL;
+      alpha_ = strtod(arg[iarg + 1], &end);
+      if (end == arg[iarg + 1] || *end != '\0')
+        error->all(FLERR, "fix damp/local: value of 'alpha' is not a number; allowed range is [0, 1)");
+      if (alpha_ < 0.0 || alpha_ >= 1.0)
+        error->all(FLERR, "fix damp/local: 'alpha' must be in [0, 1)");
+      iarg += 2;
+    } else {
+      std::string msg = std::string("fix damp/local: unknown keyword '") + arg[iarg] +
+                        "'; expected 'alpha'";
+      error->all(FLERR, msg.c_str());
+    }
+  }
+  if (alpha_ < 0.0)
+    error->all(FLERR, "fix damp/local: missing required keyword 'alpha' (value in [0, 1))");
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixDampLocal::setmask()
+{
+  int mask = 0;
+  mask |= POST_FORCE;
+  mask |= MIN_POST_FORCE;
+  return mask;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixDampLocal::init()
+{
+  if (strstr(update->integrate_style, "respa"))
+    error->all(FLERR, "fix damp/local does not support run_style respa");
+
+  // Damping acts on the unbalanced force, so every fix that adds force must
+  // run first: post_force hooks run in the order the fixes were defined.
+  int me = -1;
+  for (int i = 0; i < modify->nfix; i++)
+    if (modify->fix[i] == this) me = i;
+  for (int i = me + 1; i < modify->nfix; i++) {
+    const char *style = modify->fix[i]->style;
+    // fixes known not to add force
+    if (strcmp(style, "damp/local") == 0 || strcmp(style, "crush/particle") == 0) continue;
+    if (modify->fmask[i] & POST_FORCE) {
+      std::string msg = std::string("fix damp/local: fix '") + modify->fix[i]->id +
+                        "' (" + modify->fix[i]->style +
+                        ") is defined after it and may add force that will not be damped; "
+                        "define fix damp/local after all force fixes";
+      error->warning(FLERR, msg.c_str());
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixDampLocal::setup(int vflag)
+{
+  post_force(vflag);
+}
+
+void FixDampLocal::min_setup(int vflag)
+{
+  post_force(vflag);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixDampLocal::post_force(int)
+{
+  double **v = atom->v;
+  double **f = atom->f;
+  const int *mask = atom->mask;
+  const int nlocal = atom->nlocal;
+
+  for (int i = 0; i < nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    f[i][0] = CrushKernels::local_damping_force(f[i][0], v[i][0], alpha_);
+    f[i][1] = CrushKernels::local_damping_force(f[i][1], v[i][1], alpha_);
+    f[i][2] = CrushKernels::local_damping_force(f[i][2], v[i][2], alpha_);
+  }
+}
+
+void FixDampLocal::min_post_force(int vflag)
+{
+  post_force(vflag);
+}
