@@ -34,7 +34,8 @@ FixDampLocal::FixDampLocal(LAMMPS *lmp, int narg, char **arg) :
       alpha_ = strtod(arg[iarg + 1], &end);
       if (end == arg[iarg + 1] || *end != '\0')
         error->all(FLERR, "fix damp/local: value of 'alpha' is not a number; allowed range is [0, 1)");
-      if (alpha_ < 0.0 || alpha_ >= 1.0)
+      // written so that NaN (strtod accepts "nan") is rejected too
+      if (!(alpha_ >= 0.0 && alpha_ < 1.0))
         error->all(FLERR, "fix damp/local: 'alpha' must be in [0, 1)");
       iarg += 2;
     } else {

@@ -1,0 +1,33 @@
+"""crushpost: post-processing of crushable-sand DEM runs (LIGGGHTS plugin).
+
+Pure functions on numpy arrays; see each module for units and conventions.
+
+* :mod:`crushpost.breakage` - PSD curves and the Einav breakage index Br.
+* :mod:`crushpost.trend` - fit q_c(h) = a (1 - exp(-b h)).
+* :mod:`crushpost.stress` - p, q, principal stresses, cylindrical components,
+  particle / measurement-sphere stresses, ring volume averages.
+* :mod:`crushpost.thermo` - thermo blocks of LIGGGHTS/LAMMPS logs.
+* :mod:`crushpost.dump` - text dumps and the crush event log.
+* :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo}``.
+"""
+
+from .breakage import (W_FRACTAL, Breakage, breakage, breakage_index,
+                       fractal_grading_integral, fractal_psd, grading_integral,
+                       psd_curve, sphere_mass)
+from .dump import CRUSH_LOG_COLUMNS, iter_dump, read_crush_log, read_dump
+from .stress import (Invariants, cylindrical_basis, invariants, pair_contact_terms,
+                     particle_stress, ring_average, ring_averages, sphere_ring_volume,
+                     sphere_stress, to_cylindrical, to_cylindrical_tensor)
+from .thermo import concat_blocks, parse_log, read_log, summarize
+from .trend import QcFit, fit_qc_trend, qc_trend
+
+__all__ = [
+    "W_FRACTAL", "Breakage", "breakage", "breakage_index", "fractal_grading_integral",
+    "fractal_psd", "grading_integral", "psd_curve", "sphere_mass",
+    "CRUSH_LOG_COLUMNS", "iter_dump", "read_crush_log", "read_dump",
+    "Invariants", "cylindrical_basis", "invariants", "pair_contact_terms",
+    "particle_stress", "ring_average", "ring_averages", "sphere_ring_volume",
+    "sphere_stress", "to_cylindrical", "to_cylindrical_tensor",
+    "concat_blocks", "parse_log", "read_log", "summarize",
+    "QcFit", "fit_qc_trend", "qc_trend",
+]

@@ -1,0 +1,131 @@
+"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo} ...``."""
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+from .breakage import W_FRACTAL, breakage, sphere_mass
+from .dump import read_dump
+from .thermo import concat_blocks, read_log, summarize
+from .trend import fit_qc_trend
+
+# Calibrated NE34 limits at real size (SPEC 3) [m]; scaled by N.
+D_MIN_REAL = 0.01e-3
+D_MAX_REAL = 0.27e-3
+
+
+def _grading(snap, density):
+    atoms = snap["atoms"]
+    if "radius" in atoms:
+        d = 2.0 * atoms["radius"]
+    elif "diameter" in atoms:
+        d = atoms["diameter"]
+    else:
+        raise KeyError("dump at step %d has neither a radius nor a diameter column"
+                       % snap["timestep"])
+    m = atoms["mass"] if "mass" in atoms else sphere_mass(d, density)
+    return d, m
+
+
+def _cmd_br(args):
+    snaps = read_dump(args.dump)
+    now = snaps[args.snapshot]
+    init_snaps = read_dump(args.initial) if args.initial else snaps
+    init = init_snaps[args.initial_snapshot]
+    d, m = _grading(now, args.density)
+    d0, m0 = _grading(init, args.density)
+    if args.fines_mass is None:
+        # Exact mass accounting: what the particles lost since the start is fines.
+        fines = max(0.0, float(m0.sum()) + args.initial_fines_mass - float(m.sum()))
+    else:
+        fines = args.fines_mass
+    d_min = args.d_min if args.d_min is not None else D_MIN_REAL * args.N
+    d_max = args.d_max if args.d_max is not None else D_MAX_REAL * args.N
+    res = breakage(d, m, d0, m0, d_min, d_max, m_fines=fines,
+                   m_fines_initial=args.initial_fines_mass, w=args.w)
+    if args.json:
+        print(json.dumps({"Br": res.Br, "B_t": res.B_t, "B_p": res.B_p,
+                          "fines_mass": fines, "d_min": d_min, "d_max": d_max,
+                          "timestep": now["timestep"],
+                          "initial_timestep": init["timestep"]}))
+    else:
+        print("%.10g" % res.Br)
+    return 0
+
+
+def _cmd_fit_qc(args):
+    data = np.loadtxt(args.file, ndmin=2)
+    if data.shape[1] < 2:
+        raise ValueError("%s: need two columns, h and q_c" % args.file)
+    fit = fit_qc_trend(data[:, 0], data[:, 1])
+    print(json.dumps(fit._asdict()))
+    return 0
+
+
+def _cmd_thermo(args):
+    blocks = read_log(args.log)
+    if not blocks:
+        raise ValueError("%s: no thermo block found" % args.log)
+    groups = ([("all runs", concat_blocks(blocks))] if args.concat
+              else [("run %d" % k, b) for k, b in enumerate(blocks)])
+    for title, data in groups:
+        n = len(next(iter(data.values()))) if data else 0
+        print("# %s: %d rows" % (title, n))
+        print("%-20s %8s %14s %14s %14s %14s" % ("column", "n", "first", "last", "min", "max"))
+        for row in summarize(data):
+            print("%-20s %8d %14.6g %14.6g %14.6g %14.6g" % row)
+    return 0
+
+
+def build_parser():
+    """The argparse parser with the ``br``, ``fit-qc`` and ``thermo`` subcommands."""
+    ap = argparse.ArgumentParser(prog="crushpost",
+                                 description="Post-processing of crushable-sand DEM runs.")
+    sub = ap.add_subparsers(dest="command", required=True)
+
+    br = sub.add_parser("br", help="Einav breakage index Br of a dump snapshot")
+    br.add_argument("dump", help="text dump with radius (or diameter) per particle")
+    br.add_argument("--initial", help="dump holding the initial grading "
+                    "(default: the same dump)")
+    br.add_argument("--snapshot", type=int, default=-1,
+                    help="index of the current snapshot (default -1, the last)")
+    br.add_argument("--initial-snapshot", type=int, default=0,
+                    help="index of the initial snapshot (default 0)")
+    br.add_argument("--N", type=float, default=1.0,
+                    help="particle up-scaling factor; scales the default d_min, d_max")
+    br.add_argument("--d-min", type=float, help="d_min [m] (default 0.01 mm * N)")
+    br.add_argument("--d-max", type=float, help="d_max [m] (default 0.27 mm * N)")
+    br.add_argument("--w", type=float, default=W_FRACTAL,
+                    help="fractal dimension of the limit grading (default 2.6)")
+    br.add_argument("--density", type=float, default=2600.0,
+                    help="particle density [kg/m^3] when the dump has no mass column")
+    br.add_argument("--fines-mass", type=float,
+                    help="fines mass now [kg] (default: initial mass minus current "
+                    "particle mass, i.e. particles that left the domain count as fines)")
+    br.add_argument("--initial-fines-mass", type=float, default=0.0,
+                    help="fines mass of the initial grading [kg] (default 0)")
+    br.add_argument("--json", action="store_true", help="print Br, B_t, B_p, ... as JSON")
+    br.set_defaults(func=_cmd_br)
+
+    fq = sub.add_parser("fit-qc", help="fit q_c(h) = a (1 - exp(-b h)); prints JSON")
+    fq.add_argument("file", help="text file with columns h and q_c ('#' comments)")
+    fq.set_defaults(func=_cmd_fit_qc)
+
+    th = sub.add_parser("thermo", help="column summary of the thermo output of a log")
+    th.add_argument("log")
+    th.add_argument("--concat", action="store_true",
+                    help="summarise all runs joined instead of run by run")
+    th.set_defaults(func=_cmd_thermo)
+    return ap
+
+
+def main(argv=None):
+    """Run the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except (OSError, ValueError, KeyError, IndexError) as exc:
+        print("crushpost %s: error: %s" % (args.command, exc), file=sys.stderr)
+        return 1

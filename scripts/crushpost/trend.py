@@ -1,0 +1,74 @@
+"""Trend fit of tip resistance against depth, ``q_c(h) = a (1 - exp(-b h))`` (SPEC 4.5).
+
+``a`` is the steady-state tip resistance (same unit as ``q_c``, e.g. Pa) and
+``b`` the inverse of a characteristic depth (1 / unit of ``h``, e.g. 1/m).
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.optimize import curve_fit
+
+__all__ = ["qc_trend", "QcFit", "fit_qc_trend"]
+
+
+def qc_trend(h, a, b):
+    """``a (1 - exp(-b h))``: same unit as ``a``; ``h`` in 1/``b`` units."""
+    return a * -np.expm1(-b * np.asarray(h, dtype=float))
+
+
+class QcFit(NamedTuple):
+    """Least-squares result: parameters and their one-sigma standard errors."""
+    a: float
+    b: float
+    a_err: float
+    b_err: float
+
+
+def _initial_guess(h, q):
+    # a: the plateau, taken as the mean of the deepest 20 % of points.
+    order = np.argsort(h)
+    tail = q[order][-max(1, len(q) // 5):]
+    a0 = float(np.mean(tail))
+    if a0 == 0.0:
+        a0 = float(np.max(np.abs(q))) or 1.0
+    # b: from the depth where the data first reach 63 % of the plateau, 1/b there.
+    reached = np.nonzero(q[order] / a0 >= 1.0 - np.exp(-1.0))[0]
+    span = float(np.ptp(h)) or 1.0
+    h63 = float(h[order][reached[0]]) if reached.size else span
+    if h63 <= 0:
+        h63 = span / 10.0
+    return a0, 1.0 / h63
+
+
+def fit_qc_trend(h, q_c, p0=None, sigma=None):
+    """Fit ``q_c(h) = a (1 - exp(-b h))`` by nonlinear least squares.
+
+    Parameters
+    ----------
+    h : (n,) penetration depth [m, or any length unit].
+    q_c : (n,) tip resistance [Pa, or any stress unit].
+    p0 : optional initial guess ``(a, b)``; by default from the plateau and
+        the depth where ``q_c`` reaches 63 % of it.
+    sigma : optional per-point standard deviations of ``q_c`` (relative
+        weights; the errors are scaled by the residual variance).
+
+    Returns
+    -------
+    QcFit(a, b, a_err, b_err); ``a`` in ``q_c`` units, ``b`` in 1/``h`` units.
+    """
+    h = np.asarray(h, dtype=float).ravel()
+    q = np.asarray(q_c, dtype=float).ravel()
+    if h.shape != q.shape:
+        raise ValueError("h and q_c must have the same length")
+    ok = np.isfinite(h) & np.isfinite(q)
+    h, q = h[ok], q[ok]
+    if sigma is not None:
+        sigma = np.asarray(sigma, dtype=float).ravel()[ok]
+    if h.size < 3:
+        raise ValueError("need at least 3 finite points to fit 2 parameters")
+    if p0 is None:
+        p0 = _initial_guess(h, q)
+    popt, pcov = curve_fit(qc_trend, h, q, p0=p0, sigma=sigma, maxfev=20000)
+    err = np.sqrt(np.diag(pcov))
+    return QcFit(float(popt[0]), float(popt[1]), float(err[0]), float(err[1]))

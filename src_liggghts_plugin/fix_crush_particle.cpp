@@ -1,0 +1,794 @@
+/* ----------------------------------------------------------------------
+   fix crush/particle: crushable grains (SPEC section 2). See the header and
+   docs/fix_crush_particle.md. The model math lives in crush_*_kernel.h.
+------------------------------------------------------------------------- */
+
+#include "fix_crush_particle.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "atom.h"
+#include "atom_vec.h"
+#include "comm.h"
+#include "crush_breakage_index_kernel.h"
+#include "crush_breakage_kernel.h"
+#include "crush_fragment_kernel.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_mesh_surface.h"
+#include "fix_neighlist_mesh.h"
+#include "fix_property_global.h"
+#include "fix_wall_gran.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+#include "primitive_wall.h"
+#include "properties.h"
+#include "tri_mesh.h"
+#include "update.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using namespace CrushKernels;
+
+namespace {
+
+const int kRestartGlobalSize = 8;
+// one event record: step time tag d x y z F_n F_lim partner generation
+const int kEventRecord = 11;
+
+bool is_prime(long n)
+{
+  if (n < 2) return false;
+  for (long k = 2; k * k <= n; k++)
+    if (n % k == 0) return false;
+  return true;
+}
+
+std::string str(const char *a) { return std::string(a ? a : ""); }
+
+}  // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg),
+  sigma_lim0_(-1), m_(-1), d0_(-1), scale_N_(-1), var_(-1), d_comm_(-1), seed_(0),
+  d_max_(-1), d_min_(-1), omega_(2.6), d_frag_min_(0.0),
+  dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_(NULL),
+  crush_(NULL), ntypes_mat_(0), pair_(NULL),
+  n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
+  initialized_(false), maxtag_ever_(0), cache_step_(-1)
+{
+  if (!atom->radius_flag || !atom->rmass_flag)
+    error->all(FLERR, "fix crush/particle needs per-atom radius and mass: use atom_style granular (sphere)");
+  if (!atom->tag_enable)
+    error->all(FLERR, "fix crush/particle needs atom IDs (atom_modify id yes)");
+
+  parse_args(narg, arg);
+
+  restart_global = 1;
+  restart_peratom = 1;
+  create_attribute = 1;
+  force_reneighbor = 1;
+  next_reneighbor = -1;
+  peratom_flag = 1;
+  size_peratom_cols = 2;
+  peratom_freq = 1;
+  vector_flag = 1;
+  size_vector = 6;
+  global_freq = 1;
+  extvector = 0;
+
+  grow_arrays(atom->nmax);
+  atom->add_callback(0);
+  atom->add_callback(1);
+  for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
+
+  if (events_file_ && comm->me == 0) {
+    events_ = fopen(events_file_, "w");
+    if (!events_) {
+      std::string msg = "fix crush/particle: cannot open file '" + str(events_file_) +
+                        "' given to keyword 'events'";
+      error->one(FLERR, msg.c_str());
+    }
+    fprintf(events_, "# fix crush/particle %s: one line per breakage event\n", id);
+    fprintf(events_, "# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n");
+    fflush(events_);
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCrushParticle::parse_args(int narg, char **arg)
+{
+  // fix ID group crush/particle sigma_lim0 S m M d0 D scale N var V d_comm DC seed P [...]
+  bool have_br_dmax = false, have_br_dmin = false;
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    // keywords without a numeric value
+    if (key == "events" || key == "dt_check") {
+      if (iarg + 2 > narg)
+        error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
+      if (key == "events") {
+        delete[] events_file_;
+        events_file_ = new char[strlen(arg[iarg + 1]) + 1];
+        strcpy(events_file_, arg[iarg + 1]);
+      } else {
+        const std::string v = arg[iarg + 1];
+        if (v == "warn") dt_check_error_ = false;
+        else if (v == "error") dt_check_error_ = true;
+        else
+          error->all(FLERR, ("fix crush/particle: keyword 'dt_check' must be 'warn' or 'error', got '" + v + "'").c_str());
+      }
+      iarg += 2;
+      continue;
+    }
+    if (key == "br") {  // br d_max DMAX d_min DMIN omega W (sub-keywords in any order)
+      iarg++;
+      continue;
+    }
+
+    static const char *numeric_keys[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm",
+                                         "seed", "d_max", "d_min", "omega", "d_frag_min",
+                                         "dt_frac"};
+    bool known = false;
+    for (unsigned k = 0; k < sizeof(numeric_keys) / sizeof(numeric_keys[0]); k++)
+      if (key == numeric_keys[k]) known = true;
+    if (!known)
+      error->all(FLERR, ("fix crush/particle: unknown keyword '" + key +
+                         "'; expected sigma_lim0, m, d0, scale, var, d_comm, seed, br, d_max, "
+                         "d_min, omega, d_frag_min, events, dt_check, dt_frac").c_str());
+    if (iarg + 2 > narg)
+      error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
+    char *end = NULL;
+    const double val = strtod(arg[iarg + 1], &end);
+    if (end == arg[iarg + 1] || *end != '\0')
+      error->all(FLERR, ("fix crush/particle: value '" + str(arg[iarg + 1]) + "' of keyword '" +
+                         key + "' is not a number").c_str());
+
+    const char *range = NULL;
+    if (key == "sigma_lim0") { sigma_lim0_ = val; if (!(val > 0)) range = "> 0 (Pa)"; }
+    else if (key == "m") { m_ = val; if (!(val > 0)) range = "> 0"; }
+    else if (key == "d0") { d0_ = val; if (!(val > 0)) range = "> 0 (m)"; }
+    else if (key == "scale") { scale_N_ = val; if (!(val > 0)) range = "> 0"; }
+    else if (key == "var") { var_ = val; if (!(val >= 0)) range = ">= 0"; }
+    else if (key == "d_comm") { d_comm_ = val; if (!(val > 0)) range = "> 0 (m)"; }
+    else if (key == "seed") {
+      if (!(val > 10000) || val != floor(val) || val > 2147483647.0 || !is_prime((long)val))
+        range = "a prime number > 10000";
+      else seed_ = (uint64_t)val;
+    }
+    else if (key == "d_max") { d_max_ = val; have_br_dmax = true; if (!(val > 0)) range = "> 0 (m)"; }
+    else if (key == "d_min") { d_min_ = val; have_br_dmin = true; if (!(val > 0)) range = "> 0 (m)"; }
+    else if (key == "omega") { omega_ = val; if (!(val > 0 && val <= 3)) range = "in (0, 3]"; }
+    else if (key == "d_frag_min") { d_frag_min_ = val; if (!(val >= 0)) range = ">= 0 (m)"; }
+    else if (key == "dt_frac") { dt_frac_ = val; if (!(val > 0 && val <= 1)) range = "in (0, 1]"; }
+    if (range)
+      error->all(FLERR, ("fix crush/particle: keyword '" + key + "' must be " + range +
+                         ", got " + str(arg[iarg + 1])).c_str());
+    iarg += 2;
+  }
+
+  const char *missing = NULL;
+  if (sigma_lim0_ < 0) missing = "sigma_lim0";
+  else if (m_ < 0) missing = "m";
+  else if (d0_ < 0) missing = "d0";
+  else if (scale_N_ < 0) missing = "scale";
+  else if (var_ < 0) missing = "var";
+  else if (d_comm_ < 0) missing = "d_comm";
+  else if (seed_ == 0) missing = "seed";
+  if (missing)
+    error->all(FLERR, ("fix crush/particle: missing required keyword '" + str(missing) +
+                       "' (required: sigma_lim0 m d0 scale var d_comm seed)").c_str());
+
+  // Einav limit grading: default NE34 sizes (SPEC section 3) scaled by N
+  if (!have_br_dmax) d_max_ = 0.27e-3 * scale_N_;
+  if (!have_br_dmin) d_min_ = 0.01e-3 * scale_N_;
+  if (!(d_max_ > d_min_))
+    error->all(FLERR, "fix crush/particle: keyword 'd_max' must be larger than 'd_min'");
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixCrushParticle::~FixCrushParticle()
+{
+  atom->delete_callback(id, 0);
+  atom->delete_callback(id, 1);
+  memory->destroy(crush_);
+  delete[] events_file_;
+  if (events_) fclose(events_);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixCrushParticle::setmask()
+{
+  int mask = 0;
+  mask |= PRE_EXCHANGE;
+  mask |= PRE_NEIGHBOR;
+  mask |= END_OF_STEP;
+  return mask;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCrushParticle::init()
+{
+  if (force->newton_pair)
+    error->all(FLERR, "fix crush/particle requires 'newton off' (each rank tests the contacts of its own particles)");
+
+  pair_ = force->pair_match("gran", 0);
+  if (!pair_)
+    error->all(FLERR, "fix crush/particle needs a granular pair style (pair_style gran ...)");
+
+  // material table for particles and walls
+  ntypes_mat_ = atom->get_properties()->max_type();
+  FixPropertyGlobal *Y = static_cast<FixPropertyGlobal *>(
+      modify->find_fix_property("youngsModulus", "property/global", "peratomtype", ntypes_mat_, 0, style));
+  FixPropertyGlobal *nu = static_cast<FixPropertyGlobal *>(
+      modify->find_fix_property("poissonsRatio", "property/global", "peratomtype", ntypes_mat_, 0, style));
+  E_.assign(ntypes_mat_, 0.0);
+  nu_.assign(ntypes_mat_, 0.0);
+  E_star_.assign(ntypes_mat_ * ntypes_mat_, 0.0);
+  for (int t = 0; t < ntypes_mat_; t++) {
+    E_[t] = Y->compute_vector(t);
+    nu_[t] = nu->compute_vector(t);
+  }
+  for (int a = 0; a < ntypes_mat_; a++)
+    for (int b = 0; b < ntypes_mat_; b++)
+      E_star_[a * ntypes_mat_ + b] = effective_modulus(E_[a], nu_[a], E_[b], nu_[b]);
+
+  walls_.clear();
+  for (int k = 0; k < modify->nfix; k++)
+    if (strncmp(modify->fix[k]->style, "wall/gran", 9) == 0)
+      walls_.push_back(static_cast<FixWallGran *>(modify->fix[k]));
+
+  candidate_slot_.clear();
+  candidates_.clear();
+  cache_step_ = -1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+bool FixCrushParticle::eligible(int i) const
+{
+  return (atom->mask[i] & groupbit) && 2.0 * atom->radius[i] >= d_comm_;
+}
+
+void FixCrushParticle::assign_strength(int i)
+{
+  const double d = 2.0 * atom->radius[i];
+  const double f = strength_factor(seed_, (uint64_t)atom->tag[i], var_);
+  crush_[i][0] = size_effect_strength(sigma_lim0_, f, d, scale_N_, d0_, m_);
+}
+
+void FixCrushParticle::assign_missing_strengths()
+{
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++)
+    if (crush_[i][0] < 0.0) assign_strength(i);
+}
+
+void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); }
+void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); }
+
+/* ---------------------------------------------------------------------- */
+
+void FixCrushParticle::setup(int)
+{
+  assign_missing_strengths();
+  if (!initialized_) {
+    // initial solid mass and initial grading F0 (SPEC: Br relative to the start)
+    double local[2] = {0.0, 0.0}, global[2];
+    const int nlocal = atom->nlocal;
+    for (int i = 0; i < nlocal; i++) {
+      if (!(atom->mask[i] & groupbit)) continue;
+      local[0] += atom->rmass[i];
+      local[1] += breakage_integral_term(atom->rmass[i], 2.0 * atom->radius[i], d_min_, d_max_);
+    }
+    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
+    mass0_ = global[0];
+    integral0_ = (global[0] > 0.0) ? global[1] / global[0] : 0.0;
+    initialized_ = true;
+  }
+  int maxtag_local = 0, maxtag_all;
+  for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
+  MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
+  maxtag_ever_ = std::max(maxtag_ever_, maxtag_all);
+  check_timestep();
+  cache_step_ = -1;
+}
+
+/* ----------------------------------------------------------------------
+   The time step must hold for the smallest particle that can ever exist:
+   the smallest fragment of the smallest breakable particle (SPEC section 5).
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::check_timestep()
+{
+  // smallest fragment of a particle just above the comminution limit, unless
+  // fragments that fine go to fines
+  const double r_frag_min = std::max(small_fragment_ratio() * 0.5 * d_comm_, 0.5 * d_frag_min_);
+  double local[2] = {1e300, 1e300}, global[2];  // [0] T_R min, [1] r min ever
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    double r = atom->radius[i];
+    if (eligible(i)) r = std::min(r, r_frag_min);
+    const int t = atom->type[i] - 1;
+    const double G = shear_modulus(E_[t], nu_[t]);
+    local[0] = std::min(local[0], rayleigh_time(r, atom->density[i], G, nu_[t]));
+    local[1] = std::min(local[1], r);
+  }
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, world);
+  if (global[0] >= 1e299) return;  // no particles yet
+  const double dt = update->dt;
+  if (comm->me == 0) {
+    char line[512];
+    snprintf(line, sizeof(line),
+             "fix crush/particle: smallest radius that can occur %g, its Rayleigh time T_R %g, "
+             "dt/T_R = %g (limit dt_frac = %g)\n",
+             global[1], global[0], dt / global[0], dt_frac_);
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
+  if (dt > dt_frac_ * global[0]) {
+    char msg[512];
+    snprintf(msg, sizeof(msg),
+             "fix crush/particle: time step %g exceeds dt_frac * T_R = %g * %g for the smallest "
+             "particle that can occur (radius %g); reduce the time step",
+             dt, dt_frac_, global[0], global[1]);
+    if (dt_check_error_) error->all(FLERR, msg);
+    else if (comm->me == 0) error->warning(FLERR, msg);
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Record a contact of particle i that reached its limit; keep the contact
+   with the largest F_n / F_lim per particle (one break per step).
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::consider(int i, double delta, double R_star, double E_star_ij, int partner)
+{
+  const double F_n = hertz_normal_force(delta, R_star, E_star_ij);
+  const double F_lim = limit_force(crush_[i][0], R_star, E_star_ij);
+  const double ratio = F_n / F_lim;
+  if ((int)candidate_slot_.size() < atom->nlocal) candidate_slot_.resize(atom->nmax, -1);
+  int &slot = candidate_slot_[i];
+  if (slot >= 0) {
+    if (ratio > candidates_[slot].ratio) {
+      Candidate &c = candidates_[slot];
+      c.F_n = F_n; c.F_lim = F_lim; c.ratio = ratio; c.partner = partner;
+    }
+    return;
+  }
+  Candidate c = {atom->tag[i], i, F_n, F_lim, ratio, partner};
+  slot = (int)candidates_.size();
+  candidates_.push_back(c);
+}
+
+void FixCrushParticle::find_candidates_pairs()
+{
+  NeighList *list = pair_->list;
+  if (!list) return;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const int inum = list->inum;
+  const int *ilist = list->ilist;
+  const int *numneigh = list->numneigh;
+  int **firstneigh = list->firstneigh;
+
+  for (int ii = 0; ii < inum; ii++) {
+    const int i = ilist[ii];
+    const bool i_on = eligible(i);
+    const double xi = x[i][0], yi = x[i][1], zi = x[i][2], ri = radius[i];
+    const int *jlist = firstneigh[i];
+    const int jnum = numneigh[i];
+    for (int jj = 0; jj < jnum; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double dx = xi - x[j][0], dy = yi - x[j][1], dz = zi - x[j][2];
+      const double radsum = ri + radius[j];
+      const double rsq = dx * dx + dy * dy + dz * dz;
+      if (rsq >= radsum * radsum) continue;
+      const bool j_on = j < nlocal && eligible(j);
+      if (!i_on && !j_on) continue;
+      const double delta = radsum - sqrt(rsq);
+      const double R_star = effective_radius(ri, radius[j]);
+      const double Es = E_star(type[i], type[j]);
+      if (i_on && delta >= limit_overlap(crush_[i][0], R_star, Es))
+        consider(i, delta, R_star, Es, PARTNER_PARTICLE);
+      if (j_on && delta >= limit_overlap(crush_[j][0], R_star, Es))
+        consider(j, delta, R_star, Es, PARTNER_PARTICLE);
+    }
+  }
+}
+
+void FixCrushParticle::find_candidates_walls()
+{
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  double delta_vec[3];
+
+  for (size_t w = 0; w < walls_.size(); w++) {
+    FixWallGran *wall = walls_[w];
+    if (wall->is_mesh_wall()) {
+      for (int im = 0; im < wall->n_meshes(); im++) {
+        FixMeshSurface *fm = wall->mesh_list()[im];
+        TriMesh *mesh = fm->triMesh();
+        FixNeighlistMesh *nl = fm->meshNeighlist();
+        if (!nl) continue;
+        const int wtype = fm->atomTypeWall();
+        const int ntri = mesh->sizeLocal() + mesh->sizeGhost();
+        for (int t = 0; t < ntri; t++) {
+          const std::vector<int> &cl = nl->get_contact_list(t);
+          for (size_t c = 0; c < cl.size(); c++) {
+            const int i = cl[c];
+            if (i >= nlocal || !eligible(i)) continue;
+            int barysign;
+            const double deltan = mesh->resolveTriSphereContact(i, t, radius[i], x[i], delta_vec, barysign);
+            if (deltan >= 0.0) continue;
+            // contacts at shared edges are seen once per triangle with the
+            // same overlap: harmless for a maximum
+            const double Es = E_star(type[i], wtype);
+            if (-deltan >= limit_overlap(crush_[i][0], radius[i], Es))
+              consider(i, -deltan, radius[i], Es, PARTNER_WALL);
+          }
+        }
+      }
+    } else {
+      PrimitiveWall *pw = wall->primitiveWall();
+      if (!pw) continue;
+      const int wtype = wall->atom_type_wall();
+      int *nb;
+      const int n = pw->getNeighbors(nb);
+      for (int k = 0; k < n; k++) {
+        const int i = nb[k];
+        if (i >= nlocal || !(atom->mask[i] & wall->groupbit) || !eligible(i)) continue;
+        const double deltan = pw->resolveContact(x[i], radius[i], delta_vec);
+        if (deltan >= 0.0) continue;
+        const double Es = E_star(type[i], wtype);
+        if (-deltan >= limit_overlap(crush_[i][0], radius[i], Es))
+          consider(i, -deltan, radius[i], Es, PARTNER_WALL);
+      }
+    }
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+// Reset only the slots used (cheap when nothing breaks).
+void FixCrushParticle::clear_candidates()
+{
+  for (size_t k = 0; k < candidates_.size(); k++)
+    if (candidates_[k].i < (int)candidate_slot_.size()) candidate_slot_[candidates_[k].i] = -1;
+  candidates_.clear();
+}
+
+void FixCrushParticle::end_of_step()
+{
+  clear_candidates();
+
+  find_candidates_pairs();
+  find_candidates_walls();
+
+  int n_local = (int)candidates_.size(), n_all;
+  MPI_Allreduce(&n_local, &n_all, 1, MPI_INT, MPI_SUM, world);
+  if (n_all > 0) next_reneighbor = update->ntimestep + 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCrushParticle::pre_exchange()
+{
+  if (next_reneighbor != update->ntimestep) return;
+  break_particles();
+  next_reneighbor = -1;
+  cache_step_ = -1;
+}
+
+/* ----------------------------------------------------------------------
+   Replace every candidate by its fragments. New tags are assigned in the
+   order of the parents' tags over all ranks, so tags, strengths and
+   orientations do not depend on the number of ranks.
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::break_particles()
+{
+  const int nprocs = comm->nprocs;
+  int nlocal = atom->nlocal;
+
+  // resolve candidates to local indices (tags are robust to index changes)
+  std::vector<int> parents;
+  std::vector<Candidate> cands;
+  if (!candidates_.empty()) {
+    std::vector<std::pair<int, int> > by_tag;  // (tag, candidate index)
+    for (size_t k = 0; k < candidates_.size(); k++) by_tag.push_back(std::make_pair(candidates_[k].tag, (int)k));
+    std::sort(by_tag.begin(), by_tag.end());
+    for (int i = 0; i < nlocal; i++) {
+      std::vector<std::pair<int, int> >::iterator it =
+          std::lower_bound(by_tag.begin(), by_tag.end(), std::make_pair(atom->tag[i], -1));
+      if (it != by_tag.end() && it->first == atom->tag[i]) {
+        parents.push_back(i);
+        cands.push_back(candidates_[it->second]);
+      }
+    }
+  }
+  clear_candidates();
+
+  // fragments each parent keeps: fragments finer than d_frag_min go to fines
+  const double r1 = large_fragment_ratio(), r2 = small_fragment_ratio();
+  const int np_local = (int)parents.size();
+  std::vector<int> keep(np_local);
+  for (int k = 0; k < np_local; k++) {
+    const double d = 2.0 * atom->radius[parents[k]];
+    keep[k] = (r1 * d >= d_frag_min_ ? 6 : 0) + (r2 * d >= d_frag_min_ ? 8 : 0);
+  }
+
+  // global (tag, keep) list, sorted by tag -> tag offsets
+  std::vector<int> counts(nprocs), displs(nprocs);
+  int two_np = 2 * np_local;
+  MPI_Allgather(&two_np, 1, MPI_INT, &counts[0], 1, MPI_INT, world);
+  int total2 = 0;
+  for (int p = 0; p < nprocs; p++) { displs[p] = total2; total2 += counts[p]; }
+  std::vector<int> mine(two_np + 1), all(total2 + 1);
+  for (int k = 0; k < np_local; k++) { mine[2 * k] = atom->tag[parents[k]]; mine[2 * k + 1] = keep[k]; }
+  MPI_Allgatherv(&mine[0], two_np, MPI_INT, &all[0], &counts[0], &displs[0], MPI_INT, world);
+  const int np_all = total2 / 2;
+  std::vector<std::pair<int, int> > order(np_all);
+  for (int k = 0; k < np_all; k++) order[k] = std::make_pair(all[2 * k], all[2 * k + 1]);
+  std::sort(order.begin(), order.end());
+
+  int maxtag_local = 0, maxtag_all;
+  for (int i = 0; i < nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
+  MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
+  const int base = std::max(maxtag_all, maxtag_ever_);
+
+  std::vector<int> first_tag(np_all);
+  long next = base;
+  for (int k = 0; k < np_all; k++) { first_tag[k] = (int)(next + 1); next += order[k].second; }
+  if (next > 2147483647L)
+    error->all(FLERR, "fix crush/particle: atom IDs would exceed the 32-bit limit");
+
+  // create fragments
+  double fines_local = 0.0, created_local = 0.0;
+  std::vector<double> records;
+  double frag_r[kFragments], frag_off[kFragments][3], R[3][3];
+  for (int k = 0; k < np_local; k++) {
+    const int i = parents[k];
+    const int tag_i = atom->tag[i];
+    const int pos = (int)(std::lower_bound(order.begin(), order.end(), std::make_pair(tag_i, -1)) - order.begin());
+    int new_tag = first_tag[pos];
+
+    const double r = atom->radius[i];
+    const double rho = atom->density[i];
+    const double generation = crush_[i][1];
+    double xp[3] = {atom->x[i][0], atom->x[i][1], atom->x[i][2]};
+    double vp[3] = {atom->v[i][0], atom->v[i][1], atom->v[i][2]};
+    const int itype = atom->type[i], imask = atom->mask[i];
+    const tagint image = atom->image[i];
+
+    records.push_back((double)update->ntimestep);
+    records.push_back(update->get_cur_time());
+    records.push_back((double)tag_i);
+    records.push_back(2.0 * r);
+    records.push_back(xp[0]); records.push_back(xp[1]); records.push_back(xp[2]);
+    records.push_back(cands[k].F_n);
+    records.push_back(cands[k].F_lim);
+    records.push_back((double)cands[k].partner);
+    records.push_back(generation);
+
+    apollonian_fragments(r, frag_r, frag_off);
+    event_rotation(seed_, (uint64_t)tag_i, R);
+    double mass_kept = 0.0;
+    for (int f = 0; f < kFragments; f++) {
+      if (2.0 * frag_r[f] < d_frag_min_) continue;
+      double off[3], xf[3];
+      rotate(R, frag_off[f], off);
+      xf[0] = xp[0] + off[0]; xf[1] = xp[1] + off[1]; xf[2] = xp[2] + off[2];
+      atom->avec->create_atom(itype, xf);
+      const int m = atom->nlocal - 1;
+      atom->tag[m] = new_tag++;
+      atom->mask[m] = imask;
+      atom->image[m] = image;
+      atom->v[m][0] = vp[0]; atom->v[m][1] = vp[1]; atom->v[m][2] = vp[2];
+      if (atom->omega_flag) atom->omega[m][0] = atom->omega[m][1] = atom->omega[m][2] = 0.0;
+      atom->radius[m] = frag_r[f];
+      atom->density[m] = rho;
+      atom->rmass[m] = 4.0 * kPi / 3.0 * frag_r[f] * frag_r[f] * frag_r[f] * rho;
+      mass_kept += atom->rmass[m];
+      for (int q = 0; q < modify->nfix; q++)
+        if (modify->fix[q]->create_attribute) modify->fix[q]->set_arrays(m);
+      crush_[m][1] = generation + 1.0;
+      assign_strength(m);
+      created_local += 1.0;
+    }
+    fines_local += atom->rmass[i] - mass_kept;
+  }
+
+  // delete parents, highest index first so the remaining indices stay valid
+  std::vector<int> del(parents);
+  std::sort(del.begin(), del.end());
+  for (int k = (int)del.size() - 1; k >= 0; k--) {
+    atom->avec->copy(atom->nlocal - 1, del[k], 1);
+    atom->nlocal--;
+  }
+
+  double sums[3] = {fines_local, created_local, (double)np_local}, sums_all[3];
+  MPI_Allreduce(sums, sums_all, 3, MPI_DOUBLE, MPI_SUM, world);
+  fines_mass_ += sums_all[0];
+  n_created_ += sums_all[1];
+  n_events_ += sums_all[2];
+  atom->natoms += (bigint)(sums_all[1] - sums_all[2]);
+  maxtag_ever_ = (int)next;
+  if (atom->map_style) {
+    atom->nghost = 0;
+    atom->map_init();
+    atom->map_set();
+  }
+
+  write_events(records, np_local);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCrushParticle::write_events(const std::vector<double> &local_records, int nrec_local)
+{
+  if (!events_file_) return;
+  const int nprocs = comm->nprocs;
+  int n = nrec_local * kEventRecord;
+  std::vector<int> counts(nprocs), displs(nprocs);
+  MPI_Gather(&n, 1, MPI_INT, &counts[0], 1, MPI_INT, 0, world);
+  int total = 0;
+  if (comm->me == 0)
+    for (int p = 0; p < nprocs; p++) { displs[p] = total; total += counts[p]; }
+  std::vector<double> all(total + 1);
+  std::vector<double> send(local_records);
+  send.push_back(0.0);
+  MPI_Gatherv(&send[0], n, MPI_DOUBLE, &all[0], &counts[0], &displs[0], MPI_DOUBLE, 0, world);
+  if (comm->me != 0 || !events_) return;
+  // lines in order of parent tag, as on one rank
+  std::vector<std::pair<double, int> > order;
+  for (int k = 0; k < total / kEventRecord; k++) order.push_back(std::make_pair(all[k * kEventRecord + 2], k));
+  std::sort(order.begin(), order.end());
+  for (size_t q = 0; q < order.size(); q++) {
+    const double *e = &all[order[q].second * kEventRecord];
+    fprintf(events_, "%.0f %.10g %.0f %.10g %.10g %.10g %.10g %.10g %.10g %s %.0f\n", e[0], e[1], e[2], e[3],
+            e[4], e[5], e[6], e[7], e[8], e[9] == PARTNER_WALL ? "wall" : "particle", e[10]);
+  }
+  fflush(events_);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixCrushParticle::compute_globals()
+{
+  if (cache_step_ == update->ntimestep) return;
+  double local[2] = {0.0, 0.0}, global[2];
+  double rmin_local = 1e300, rmin_all;
+  const int nlocal = atom->nlocal;
+  for (int i = 0; i < nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    local[0] += atom->rmass[i];
+    local[1] += breakage_integral_term(atom->rmass[i], 2.0 * atom->radius[i], d_min_, d_max_);
+    rmin_local = std::min(rmin_local, atom->radius[i]);
+  }
+  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&rmin_local, &rmin_all, 1, MPI_DOUBLE, MPI_MIN, world);
+  const double M = global[0] + fines_mass_;
+  const double I = (M > 0.0) ? (global[1] + fines_mass_ * log(d_max_ / d_min_)) / M : 0.0;
+  cache_[0] = n_events_;
+  cache_[1] = n_created_;
+  cache_[2] = fines_mass_;
+  cache_[3] = global[0];
+  cache_[4] = breakage_index(I, integral0_, fractal_grading_integral(d_min_, d_max_, omega_));
+  cache_[5] = (rmin_all < 1e299) ? rmin_all : 0.0;
+  cache_step_ = update->ntimestep;
+}
+
+double FixCrushParticle::compute_vector(int n)
+{
+  compute_globals();
+  return cache_[n];
+}
+
+/* ----------------------------------------------------------------------
+   per-atom arrays
+------------------------------------------------------------------------- */
+
+double FixCrushParticle::memory_usage()
+{
+  return (double)atom->nmax * 2 * sizeof(double);
+}
+
+void FixCrushParticle::grow_arrays(int nmax)
+{
+  memory->grow(crush_, nmax, 2, "crush/particle:crush");
+  array_atom = crush_;
+}
+
+void FixCrushParticle::copy_arrays(int i, int j, int)
+{
+  crush_[j][0] = crush_[i][0];
+  crush_[j][1] = crush_[i][1];
+}
+
+void FixCrushParticle::set_arrays(int i)
+{
+  crush_[i][0] = -1.0;  // drawn from the tag at the next neighbor build
+  crush_[i][1] = 0.0;
+}
+
+int FixCrushParticle::pack_exchange(int i, double *buf)
+{
+  buf[0] = crush_[i][0];
+  buf[1] = crush_[i][1];
+  return 2;
+}
+
+int FixCrushParticle::unpack_exchange(int nlocal, double *buf)
+{
+  crush_[nlocal][0] = buf[0];
+  crush_[nlocal][1] = buf[1];
+  return 2;
+}
+
+int FixCrushParticle::pack_restart(int i, double *buf)
+{
+  buf[0] = 3;
+  buf[1] = crush_[i][0];
+  buf[2] = crush_[i][1];
+  return 3;
+}
+
+void FixCrushParticle::unpack_restart(int nlocal, int nth)
+{
+  double **extra = atom->extra;
+  int m = 0;
+  for (int i = 0; i < nth; i++) m += static_cast<int>(extra[nlocal][m]);
+  m++;
+  crush_[nlocal][0] = extra[nlocal][m++];
+  crush_[nlocal][1] = extra[nlocal][m++];
+}
+
+int FixCrushParticle::maxsize_restart() { return 3; }
+int FixCrushParticle::size_restart(int) { return 3; }
+
+/* ----------------------------------------------------------------------
+   global state in restart files
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::write_restart(FILE *fp)
+{
+  double list[kRestartGlobalSize] = {n_events_, n_created_, fines_mass_, mass0_, integral0_,
+                                     initialized_ ? 1.0 : 0.0, (double)maxtag_ever_, (double)seed_};
+  if (comm->me == 0) {
+    int size = kRestartGlobalSize * sizeof(double);
+    fwrite(&size, sizeof(int), 1, fp);
+    fwrite(list, sizeof(double), kRestartGlobalSize, fp);
+  }
+}
+
+void FixCrushParticle::restart(char *buf)
+{
+  double *list = (double *)buf;
+  n_events_ = list[0];
+  n_created_ = list[1];
+  fines_mass_ = list[2];
+  mass0_ = list[3];
+  integral0_ = list[4];
+  initialized_ = list[5] > 0.5;
+  maxtag_ever_ = (int)list[6];
+}

@@ -1,0 +1,118 @@
+/* ----------------------------------------------------------------------
+   fix crush/particle: crushable grains (SPEC section 2).
+   Russell & Muir Wood criterion on every particle-particle and
+   particle-wall contact, size-dependent scattered strength, replacement of
+   a broken grain by 14 Apollonian fragments, comminution limit, fines mass
+   accounting and the Einav breakage index.
+   Doc: docs/fix_crush_particle.md
+------------------------------------------------------------------------- */
+
+#ifdef FIX_CLASS
+
+FixStyle(crush/particle,FixCrushParticle)
+
+#else
+
+#ifndef LMP_FIX_CRUSH_PARTICLE_H
+#define LMP_FIX_CRUSH_PARTICLE_H
+
+#include <cstdio>
+#include <stdint.h>
+#include <vector>
+
+#include "fix.h"
+
+namespace LAMMPS_NS {
+
+class FixCrushParticle : public Fix {
+ public:
+  FixCrushParticle(class LAMMPS *, int, char **);
+  ~FixCrushParticle();
+  int setmask();
+  void init();
+  void setup(int);
+  void setup_pre_neighbor();
+  void pre_neighbor();
+  void pre_exchange();
+  void end_of_step();
+  double compute_vector(int);
+
+  // per-atom data: sigma_lim and generation
+  double memory_usage();
+  void grow_arrays(int);
+  void copy_arrays(int, int, int);
+  void set_arrays(int);
+  int pack_exchange(int, double *);
+  int unpack_exchange(int, double *);
+  int pack_restart(int, double *);
+  void unpack_restart(int, int);
+  int size_restart(int);
+  int maxsize_restart();
+
+  // global state
+  void write_restart(FILE *);
+  void restart(char *);
+
+  enum Partner { PARTNER_PARTICLE = 0, PARTNER_WALL = 1 };
+
+ private:
+  // model parameters (SPEC section 3 names)
+  double sigma_lim0_, m_, d0_, scale_N_, var_, d_comm_;
+  uint64_t seed_;
+  double d_max_, d_min_, omega_;  // Br limit grading
+  double d_frag_min_;             // fragments finer than this go to fines
+  bool dt_check_error_;
+  double dt_frac_;
+  char *events_file_;
+  FILE *events_;
+
+  double **crush_;  // [i][0] sigma_lim (-1 = not yet drawn), [i][1] generation
+
+  // E* for every pair of material types (particle and wall types)
+  int ntypes_mat_;
+  std::vector<double> E_star_;
+  std::vector<double> E_, nu_;
+  double E_star(int ti, int tj) const { return E_star_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
+
+  class Pair *pair_;
+  std::vector<class FixWallGran *> walls_;
+
+  // Contacts over the limit found at the end of a step, broken in the next
+  // pre_exchange (atoms can be created and deleted only there).
+  struct Candidate {
+    int tag;
+    int i;  // local index when found
+    double F_n, F_lim, ratio;
+    int partner;
+  };
+  std::vector<Candidate> candidates_;
+  std::vector<int> candidate_slot_;
+
+  // global counters, kept in restart files
+  double n_events_, n_created_, fines_mass_;
+  double mass0_, integral0_;  // initial solid mass and Br integral of F0
+  bool initialized_;
+  int maxtag_ever_;
+
+  // cache for compute_vector
+  bigint cache_step_;
+  double cache_[6];
+
+  void parse_args(int narg, char **arg);
+  void assign_strength(int i);
+  void assign_missing_strengths();
+  void consider(int i, double delta, double R_star, double E_star_ij, int partner);
+  void clear_candidates();
+  void find_candidates_pairs();
+  void find_candidates_walls();
+  void break_particles();
+  void write_events(const std::vector<double> &local_records, int nrec_local);
+  void check_timestep();
+  void compute_globals();
+  bool eligible(int i) const;
+};
+
+}
+
+#endif
+#endif
