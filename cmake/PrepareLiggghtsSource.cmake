@@ -53,15 +53,6 @@ function(prepare_liggghts_source src dst plugin_dir)
       file(REMOVE ${_old_styles})
     endif()
 
-    # GCC 12: utils.h casts a temporary ostringstream to a reference, and
-    # finish.cpp compares the pointer numneigh with > 0.
-    _crush_patch("${dst}/utils.h"
-      "return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();"
-      "std::ostringstream s; s << std::dec << a; return s.str();")
-    _crush_patch("${dst}/finish.cpp"
-      "if (neighbor->lists[m]->numneigh > 0) {"
-      "if (neighbor->lists[m]->numneigh != NULL) {")
-
     # Contact-model registry (style_contact_model.h) as LIGGGHTS generates it.
     execute_process(COMMAND sh Make.sh models WORKING_DIRECTORY "${dst}"
                     RESULT_VARIABLE _rc OUTPUT_QUIET)
@@ -74,6 +65,28 @@ function(prepare_liggghts_source src dst plugin_dir)
       "#define LIGGGHTS_VERSION \"LIGGGHTS-PUBLIC ${_ver}, with the crushable-grain package\"\n")
     file(WRITE "${_stamp}" "${src}")
   endif()
+
+  # Fixes applied in the build tree only (idempotent: a patched file is left alone).
+  # GCC 12: utils.h casts a temporary ostringstream to a reference, and
+  # finish.cpp compares the pointer numneigh with > 0.
+  _crush_patch("${dst}/utils.h"
+    "return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();"
+    "std::ostringstream s; s << std::dec << a; return s.str();")
+  _crush_patch("${dst}/finish.cpp"
+    "if (neighbor->lists[m]->numneigh > 0) {"
+    "if (neighbor->lists[m]->numneigh != NULL) {")
+  # `-screen none` leaves screen NULL, but many LIGGGHTS messages (the STL
+  # reader among them) print to it unchecked and crash: send them to /dev/null.
+  _crush_patch("${dst}/lammps.cpp"
+    "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = NULL;"
+    "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = fopen(\"/dev/null\",\"w\");")
+
+  # LIGGGHTS 3.8 reports "Lost atoms" whenever the count falls between two
+  # thermo outputs, even when a fix deleted atoms and updated atom->natoms
+  # (fix crush/particle with d_frag_min): compare with the bookkept total.
+  _crush_patch("${dst}/thermo.cpp"
+    "if(ntotal < last_natoms)\n    lost = true;"
+    "if(ntotal < last_natoms && ntotal != atom->natoms)\n    lost = true;")
 
   # Style registries: every header (stock or ours) that declares the class.
   set(_styles

@@ -25,14 +25,15 @@ inline double breakage_integral_term(double m, double d, double d_min, double d_
 }
 
 // Integral of the fractal limit grading F_u(d) = (d^k - d_min^k)/(d_max^k - d_min^k),
-// k = 3 - omega, over d(ln d) on [d_min, d_max]. k -> 0 is the log-uniform limit.
+// k = 3 - omega, over d(ln d) on [d_min, d_max]: with L = ln(d_max/d_min) and
+// x = k L it is L (1/x - 1/expm1(x)), written as a series near x = 0 (omega -> 3,
+// the log-uniform limit L/2) where the closed form cancels.
 inline double fractal_grading_integral(double d_min, double d_max, double omega)
 {
   const double L = std::log(d_max / d_min);
-  const double k = 3.0 - omega;
-  if (std::fabs(k) < 1e-12) return 0.5 * L;
-  const double a = std::pow(d_min, k), b = std::pow(d_max, k);
-  return ((b - a) / k - a * L) / (b - a);
+  const double x = (3.0 - omega) * L;
+  if (std::fabs(x) < 1e-3) return L * (0.5 - x / 12.0 + x * x * x / 720.0);
+  return L * (1.0 / x - 1.0 / std::expm1(x));
 }
 
 // Br from the integrals of the current, initial and limit gradings.

@@ -40,7 +40,7 @@ using namespace CrushKernels;
 
 namespace {
 
-const int kRestartGlobalSize = 8;
+const int kRestartGlobalSize = 9;
 // one event record: step time tag d x y z F_n F_lim partner generation
 const int kEventRecord = 11;
 
@@ -62,10 +62,11 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   sigma_lim0_(-1), m_(-1), d0_(-1), scale_N_(-1), var_(-1), d_comm_(-1), seed_(0),
   d_max_(-1), d_min_(-1), omega_(2.6), d_frag_min_(0.0),
-  dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_(NULL),
+  dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
-  initialized_(false), maxtag_ever_(0), cache_step_(-1)
+  initialized_(false), maxtag_ever_(0), time_offset_(0.0), restart_time_(0.0),
+  restart_time_pending_(false), cache_step_(-1)
 {
   if (!atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "fix crush/particle needs per-atom radius and mass: use atom_style granular (sphere)");
@@ -92,16 +93,21 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   atom->add_callback(1);
   for (int i = 0; i < atom->nlocal; i++) set_arrays(i);
 
-  if (events_file_ && comm->me == 0) {
-    events_ = fopen(events_file_, "w");
-    if (!events_) {
-      std::string msg = "fix crush/particle: cannot open file '" + str(events_file_) +
-                        "' given to keyword 'events'";
-      error->one(FLERR, msg.c_str());
+  if (events_file_) {
+    int ok = 1;
+    if (comm->me == 0) {
+      events_ = fopen(events_file_, events_append_ ? "a" : "w");
+      ok = events_ ? 1 : 0;
+      if (events_ && !events_append_) {
+        fprintf(events_, "# fix crush/particle %s: one line per breakage event\n", id);
+        fprintf(events_, "# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n");
+        fflush(events_);
+      }
     }
-    fprintf(events_, "# fix crush/particle %s: one line per breakage event\n", id);
-    fprintf(events_, "# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n");
-    fflush(events_);
+    MPI_Bcast(&ok, 1, MPI_INT, 0, world);
+    if (!ok)
+      error->all(FLERR, ("fix crush/particle: cannot open file '" + str(events_file_) +
+                         "' given to keyword 'events'").c_str());
   }
 }
 
@@ -115,13 +121,19 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     // keywords without a numeric value
-    if (key == "events" || key == "dt_check") {
+    if (key == "events" || key == "dt_check" || key == "events_append") {
       if (iarg + 2 > narg)
         error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
       if (key == "events") {
         delete[] events_file_;
         events_file_ = new char[strlen(arg[iarg + 1]) + 1];
         strcpy(events_file_, arg[iarg + 1]);
+      } else if (key == "events_append") {
+        const std::string v = arg[iarg + 1];
+        if (v == "yes") events_append_ = true;
+        else if (v == "no") events_append_ = false;
+        else
+          error->all(FLERR, ("fix crush/particle: keyword 'events_append' must be 'yes' or 'no', got '" + v + "'").c_str());
       } else {
         const std::string v = arg[iarg + 1];
         if (v == "warn") dt_check_error_ = false;
@@ -146,7 +158,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     if (!known)
       error->all(FLERR, ("fix crush/particle: unknown keyword '" + key +
                          "'; expected sigma_lim0, m, d0, scale, var, d_comm, seed, br, d_max, "
-                         "d_min, omega, d_frag_min, events, dt_check, dt_frac").c_str());
+                         "d_min, omega, d_frag_min, events, events_append, dt_check, dt_frac").c_str());
     if (iarg + 2 > narg)
       error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
     char *end = NULL;
@@ -285,6 +297,10 @@ void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); }
 
 void FixCrushParticle::setup(int)
 {
+  if (restart_time_pending_) {
+    time_offset_ = restart_time_ - update->get_cur_time();
+    restart_time_pending_ = false;
+  }
   assign_missing_strengths();
   if (!initialized_) {
     // initial solid mass and initial grading F0 (SPEC: Br relative to the start)
@@ -299,12 +315,27 @@ void FixCrushParticle::setup(int)
     mass0_ = global[0];
     integral0_ = (global[0] > 0.0) ? global[1] / global[0] : 0.0;
     initialized_ = true;
+
+    double dmax_local = 0.0, dmax_all;
+    for (int i = 0; i < nlocal; i++)
+      if (atom->mask[i] & groupbit) dmax_local = std::max(dmax_local, 2.0 * atom->radius[i]);
+    MPI_Allreduce(&dmax_local, &dmax_all, 1, MPI_DOUBLE, MPI_MAX, world);
+    if (dmax_all > d_max_ && comm->me == 0) {
+      char msg[256];
+      snprintf(msg, sizeof(msg),
+               "fix crush/particle: grains up to d = %g exceed the Br grading limit d_max = %g; "
+               "Br counts them as d_max and can exceed 1 (set 'd_max')", dmax_all, d_max_);
+      error->warning(FLERR, msg);
+    }
   }
   int maxtag_local = 0, maxtag_all;
   for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
   MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
   maxtag_ever_ = std::max(maxtag_ever_, maxtag_all);
   check_timestep();
+  // Contacts over the limit at the end of the previous run (or in the state
+  // read from a restart file) break at the first step, as in one long run.
+  detect();
   cache_step_ = -1;
 }
 
@@ -479,6 +510,11 @@ void FixCrushParticle::clear_candidates()
 
 void FixCrushParticle::end_of_step()
 {
+  detect();
+}
+
+void FixCrushParticle::detect()
+{
   clear_candidates();
 
   find_candidates_pairs();
@@ -486,7 +522,7 @@ void FixCrushParticle::end_of_step()
 
   int n_local = (int)candidates_.size(), n_all;
   MPI_Allreduce(&n_local, &n_all, 1, MPI_INT, MPI_SUM, world);
-  if (n_all > 0) next_reneighbor = update->ntimestep + 1;
+  next_reneighbor = (n_all > 0) ? update->ntimestep + 1 : -1;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -581,7 +617,7 @@ void FixCrushParticle::break_particles()
     const tagint image = atom->image[i];
 
     records.push_back((double)update->ntimestep);
-    records.push_back(update->get_cur_time());
+    records.push_back(current_time());
     records.push_back((double)tag_i);
     records.push_back(2.0 * r);
     records.push_back(xp[0]); records.push_back(xp[1]); records.push_back(xp[2]);
@@ -773,7 +809,8 @@ int FixCrushParticle::size_restart(int) { return 3; }
 void FixCrushParticle::write_restart(FILE *fp)
 {
   double list[kRestartGlobalSize] = {n_events_, n_created_, fines_mass_, mass0_, integral0_,
-                                     initialized_ ? 1.0 : 0.0, (double)maxtag_ever_, (double)seed_};
+                                     initialized_ ? 1.0 : 0.0, (double)maxtag_ever_, (double)seed_,
+                                     current_time()};
   if (comm->me == 0) {
     int size = kRestartGlobalSize * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
@@ -791,4 +828,13 @@ void FixCrushParticle::restart(char *buf)
   integral0_ = list[4];
   initialized_ = list[5] > 0.5;
   maxtag_ever_ = (int)list[6];
+  // LIGGGHTS 3.8 restarts its clock at 0: the offset is set at the next setup
+  restart_time_ = list[8];
+  restart_time_pending_ = true;
+}
+
+// Simulation time, continuous across restart files.
+double FixCrushParticle::current_time() const
+{
+  return update->get_cur_time() + time_offset_;
 }

@@ -64,6 +64,7 @@ class FixCrushParticle : public Fix {
   bool dt_check_error_;
   double dt_frac_;
   char *events_file_;
+  bool events_append_;
   FILE *events_;
 
   double **crush_;  // [i][0] sigma_lim (-1 = not yet drawn), [i][1] generation
@@ -93,6 +94,9 @@ class FixCrushParticle : public Fix {
   double mass0_, integral0_;  // initial solid mass and Br integral of F0
   bool initialized_;
   int maxtag_ever_;
+  double time_offset_;  // restores the simulation time after read_restart
+  double restart_time_;
+  bool restart_time_pending_;
 
   // cache for compute_vector
   bigint cache_step_;
@@ -103,6 +107,8 @@ class FixCrushParticle : public Fix {
   void assign_missing_strengths();
   void consider(int i, double delta, double R_star, double E_star_ij, int partner);
   void clear_candidates();
+  void detect();
+  double current_time() const;
   void find_candidates_pairs();
   void find_candidates_walls();
   void break_particles();

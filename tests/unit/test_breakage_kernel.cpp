@@ -223,6 +223,21 @@ TEST(BreakageKernel, Uniform01RangeAndMoments)
   EXPECT_NEAR(sum / n, 0.5, 0.005);
 }
 
+TEST(BreakageKernel, Uniform01NoCollisionsAcrossTags)
+{
+  // Every tag gets its own draw: 100,000 small tags plus tags with high bits
+  // set (LIGGGHTS tags are 32-bit; fragments get new tags) give 300,000
+  // distinct values (a 53-bit collision by chance has probability ~5e-6).
+  std::vector<double> v;
+  for (uint64_t t = 1; t <= 100000; ++t) {
+    v.push_back(uniform01(4242u, t, STREAM_STRENGTH, 0));
+    v.push_back(uniform01(4242u, t + (uint64_t(1) << 31), STREAM_STRENGTH, 0));
+    v.push_back(uniform01(4242u, t + (uint64_t(1) << 20), STREAM_STRENGTH, 0));
+  }
+  std::sort(v.begin(), v.end());
+  EXPECT_EQ(std::adjacent_find(v.begin(), v.end()) - v.begin(), static_cast<long>(v.size()));
+}
+
 TEST(BreakageKernel, StandardNormalMomentsAndCdf)
 {
   const int n = 400000;

@@ -1,0 +1,142 @@
+#!/usr/bin/env python3
+"""Oedometer scene: build the initial packing, run LIGGGHTS, post-process.
+
+    examples/oedometer/run.py --out results/oedometer [--np 2] [--grains unbreakable]
+
+Writes into --out: grains.data, plate.stl, log.liggghts, breakage_events.txt,
+oedometer.h5 (path and PSD), e_log_sigma_v.png, Br_sigma_v.png, psd.png,
+summary.json. All options are listed by --help.
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
+
+import numpy as np  # noqa: E402
+
+from crushpost import oedometer  # noqa: E402
+from crushpost.meshes import write_plate_stl  # noqa: E402
+from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+
+RHO = 2600.0
+
+
+def build(args, out):
+    d50 = D50_NE34 * args.N
+    R, H = args.R_d50 * d50, args.H_d50 * d50
+    rng = np.random.default_rng(args.packing_seed)
+    d = ne34_diameters(20 * int(R * R * H / d50 ** 3) + 100, args.N, rng=rng)
+    # as many grains as fill the cell at the target porosity
+    n = int(np.searchsorted(np.cumsum(np.pi / 6 * d ** 3), (1 - args.n_target) * math.pi * R * R * H))
+    d = d[:n] * args.shrink  # placed small, then grown by radius expansion
+    pos = rsa_cylinder(d, R, 0.0, H, rng=rng)
+    L = 1.3 * R
+    write_lammps_data(os.path.join(out, "grains.data"), pos, d, RHO,
+                      (-L, L, -L, L, -0.05 * H, 1.05 * H), ntypes=3)
+    write_plate_stl(os.path.join(out, "plate.stl"), 1.2 * R)
+    return R, H, n
+
+
+def run_liggghts(args, out, R, H):
+    binary = args.liggghts or os.path.join(REPO, "build", "liggghts")
+    v = {"inputs": os.path.join(REPO, "inputs"), "N": args.N, "R_cell": R, "H_cell": H,
+         "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
+         "seed": args.seed, "dt": args.dt, "v_load": args.v_load, "sv_max": args.sv_max,
+         "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
+         "n_expand_max": args.prep_loops}
+    cmd = ["mpirun", "--oversubscribe", "-np", str(args.np)]
+    if os.geteuid() == 0:
+        cmd.insert(1, "--allow-run-as-root")
+    cmd += [binary, "-in", os.path.join(HERE, "in.oedometer"), "-log", "log.liggghts",
+            "-screen", "none"]
+    for k, val in v.items():
+        cmd += ["-var", k, str(val)]
+    t0 = time.time()
+    rc = subprocess.call(cmd, cwd=out)
+    wall = time.time() - t0
+    if rc != 0:
+        sys.stderr.write("oedometer: LIGGGHTS failed (exit %d); see %s\n"
+                         % (rc, os.path.join(out, "log.liggghts")))
+        sys.exit(rc)
+    return wall
+
+
+def postprocess(args, out, wall, n0):
+    stress = oedometer.stress_path(os.path.join(out, "log.liggghts"))
+    d50 = D50_NE34 * args.N
+    psd = None
+    pattern = os.path.join(out, "dump.grains.*.txt")
+    if args.dump_every > 0:
+        sizes = np.geomspace(0.05 * d50, 2.5 * d50, 60)
+        fines_of = lambda s: float(np.interp(s, stress["Step"], stress["fines"]))
+        steps, F = oedometer.psd_snapshots(pattern, RHO, sizes, fines_of)
+        sv = np.interp(steps, stress["Step"], stress["sv"])
+        # a few snapshots on loading spread over log(stress)
+        load_end = stress["Step"][stress["phase"] == 0][-1]
+        on_load = (steps <= load_end) & (sv > 0)
+        pick = []
+        for target in np.geomspace(max(sv[on_load].min(), 1e5), sv[on_load].max(), 5):
+            k = np.flatnonzero(on_load)[np.argmin(np.abs(np.log(sv[on_load] / target)))]
+            if k not in pick:
+                pick.append(k)
+        psd = {"sizes": sizes, "steps": steps[pick], "sv": sv[pick], "F": F[pick]}
+    load = stress["phase"] == 0
+    summary = {
+        "grains": args.grains, "N": args.N, "n_particles_initial": int(n0),
+        "n_particles_final": int(stress["Atoms"][-1]),
+        "porosity_start_of_loading": float(stress["e_void"][0] / (1 + stress["e_void"][0])),
+        "e_start": float(stress["e_void"][0]), "e_min": float(stress["e_void"].min()),
+        "e_end": float(stress["e_void"][-1]),
+        "sigma_v_max_MPa": float(stress["sv"][load].max() / 1e6),
+        "n_break_events": int(stress["n_break"][-1]), "Br_final": float(stress["Br"][-1]),
+        "fines_mass": float(stress["fines"][-1]), "wall_time_s": wall, "mpi_ranks": args.np,
+    }
+    oedometer.write_hdf5(os.path.join(out, "oedometer.h5"), stress, psd, summary)
+    plots = oedometer.plot_all(out, stress, psd,
+                               "oedometer, %s, N = %g" % (args.grains, args.N))
+    summary["plots"] = [os.path.basename(p) for p in plots]
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", default=os.path.join(REPO, "results", "oedometer"))
+    p.add_argument("--np", type=int, default=2, help="MPI ranks")
+    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--N", type=float, default=39.0, help="particle up-scaling factor")
+    p.add_argument("--R-d50", type=float, default=5.0, help="cell radius in d50")
+    p.add_argument("--H-d50", type=float, default=8.0, help="cell height in d50")
+    p.add_argument("--n-target", type=float, default=0.385, help="target porosity of the preparation")
+    p.add_argument("--s-prep", type=float, default=5e3, help="preparation stress (Pa)")
+    p.add_argument("--prep-loops", type=int, default=15, help="max radius-expansion chunks of 2000 steps")
+    p.add_argument("--shrink", type=float, default=0.75, help="initial size factor before expansion")
+    p.add_argument("--sv-max", type=float, default=30e6, help="vertical stress to load to (Pa)")
+    p.add_argument("--v-load", type=float, default=1.0, help="platen speed (m/s)")
+    p.add_argument("--dt", type=float, default=1.5e-7)
+    p.add_argument("--chunk", type=int, default=2000)
+    p.add_argument("--thermo-every", type=int, default=500)
+    p.add_argument("--dump-every", type=int, default=5000, help="particle dumps (0 = none)")
+    p.add_argument("--seed", type=int, default=15485863)
+    p.add_argument("--packing-seed", type=int, default=2024)
+    p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")
+    args = p.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    R, H, n0 = build(args, args.out)
+    wall = run_liggghts(args, args.out, R, H)
+    summary = postprocess(args, args.out, wall, n0)
+    print(json.dumps(summary, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

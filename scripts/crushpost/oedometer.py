@@ -1,0 +1,133 @@
+"""Oedometer (one-dimensional compression) results: the loading/unloading path
+from the thermo output of examples/oedometer/in.oedometer, grading curves from
+its particle dumps, HDF5 output and the standard plots.
+
+Thermo columns used (LIGGGHTS drops the v_ prefix in the header):
+``Step Time Atoms z_top sv e_void n_break fines Br V_grains``.
+"""
+
+import glob
+import json
+import os
+
+import numpy as np
+
+from .breakage import psd_curve
+from .dump import read_dump
+from .thermo import read_log
+
+PATH_COLUMNS = ("Step", "Time", "Atoms", "z_top", "sv", "e_void", "n_break", "fines", "Br")
+
+
+def stress_path(log_path):
+    """Loading and unloading path: dict of arrays plus 'phase' (0 load, 1 unload).
+
+    The preparation blocks (no 'sv' column) are skipped; the first block with
+    'sv' is loading, later ones continue it until the platen speed changes
+    sign (z_top starts to rise), which marks unloading.
+    """
+    blocks = [b for b in read_log(log_path) if "sv" in b and "z_top" in b]
+    if not blocks:
+        raise ValueError("%s: no oedometer thermo blocks (columns sv, z_top)" % log_path)
+    out = {k: [] for k in PATH_COLUMNS}
+    last_step = None
+    for b in blocks:
+        keep = np.ones(len(b["Step"]), bool)
+        if last_step is not None:
+            keep &= b["Step"] > last_step  # each run repeats its first step
+        for k in PATH_COLUMNS:
+            out[k].append(np.asarray(b[k])[keep] if k in b else np.zeros(keep.sum()))
+        if len(b["Step"]):
+            last_step = b["Step"][-1]
+    path = {k: np.concatenate(v) for k, v in out.items()}
+    dz = np.diff(path["z_top"], prepend=path["z_top"][0])
+    rising = np.cumsum(dz > 0) > 0
+    path["phase"] = rising.astype(int)
+    return path
+
+
+def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None):
+    """Grading curves (mass fraction finer than each size) of every dump.
+
+    fines_by_step: callable step -> fines mass, counted as finer than every size.
+    Returns steps (n,), curves (n, len(sizes)).
+    """
+    files = sorted(glob.glob(dump_pattern), key=lambda p: int(''.join(c for c in os.path.basename(p) if c.isdigit()) or 0))
+    steps, curves = [], []
+    for f in files:
+        for snap in read_dump(f):
+            a = snap["atoms"]
+            d = 2.0 * a["radius"]
+            m = a["mass"] if "mass" in a else density * np.pi / 6.0 * d ** 3
+            fines = fines_by_step(snap["timestep"]) if fines_by_step else 0.0
+            steps.append(snap["timestep"])
+            curves.append(psd_curve(d, m, fines, sizes))
+    order = np.argsort(steps)
+    return np.asarray(steps)[order], np.asarray(curves).reshape(len(steps), len(sizes))[order]
+
+
+def write_hdf5(path, stress, psd=None, attrs=None):
+    """HDF5 file: group 'path' (one dataset per column), group 'psd' (sizes,
+    steps, sv, F), root attributes from attrs (JSON-able values)."""
+    import h5py
+    with h5py.File(path, "w") as h:
+        g = h.create_group("path")
+        for k, v in stress.items():
+            g.create_dataset(k, data=v)
+        if psd is not None:
+            p = h.create_group("psd")
+            for k, v in psd.items():
+                p.create_dataset(k, data=v)
+        for k, v in (attrs or {}).items():
+            h.attrs[k] = v if not isinstance(v, (dict, list)) else json.dumps(v)
+
+
+def plot_all(out_dir, stress, psd=None, title=""):
+    """PNG plots: e - log sv, Br - sv, PSD evolution. Returns the file names."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    files = []
+    load = stress["phase"] == 0
+    sv = stress["sv"] / 1e6
+    pos = sv > 0
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    ax.semilogx(sv[load & pos], stress["e_void"][load & pos], "-", label="loading")
+    ax.semilogx(sv[~load & pos], stress["e_void"][~load & pos], "-", label="unloading")
+    ax.set_xlabel("vertical stress $\\sigma_v$ (MPa)")
+    ax.set_ylabel("void ratio e")
+    ax.set_title(title or "oedometer")
+    ax.legend()
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    files.append(os.path.join(out_dir, "e_log_sigma_v.png"))
+    fig.savefig(files[-1], dpi=120)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(5.5, 4))
+    ax.plot(sv[load], stress["Br"][load], "-")
+    ax.set_xlabel("vertical stress $\\sigma_v$ (MPa)")
+    ax.set_ylabel("breakage index Br")
+    ax.set_title(title or "oedometer")
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    files.append(os.path.join(out_dir, "Br_sigma_v.png"))
+    fig.savefig(files[-1], dpi=120)
+    plt.close(fig)
+
+    if psd is not None and len(psd["steps"]):
+        fig, ax = plt.subplots(figsize=(5.5, 4))
+        for k in range(len(psd["steps"])):
+            ax.semilogx(psd["sizes"] * 1e3, 100 * psd["F"][k], "-",
+                        label="$\\sigma_v$ = %.1f MPa" % (psd["sv"][k] / 1e6))
+        ax.set_xlabel("diameter d (mm)")
+        ax.set_ylabel("mass finer than d (%)")
+        ax.set_title(title or "grading")
+        ax.legend(fontsize=8)
+        ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        files.append(os.path.join(out_dir, "psd.png"))
+        fig.savefig(files[-1], dpi=120)
+        plt.close(fig)
+    return files
