@@ -51,7 +51,7 @@ def run_liggghts(args, out, R, H):
          "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
          "seed": args.seed, "dt": args.dt, "v_load": args.v_load, "sv_max": args.sv_max,
          "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
-         "n_expand_max": args.prep_loops}
+         "n_expand_max": args.prep_loops, "grow_rate": args.grow_rate}
     cmd = ["mpirun", "--oversubscribe", "-np", str(args.np)]
     if os.geteuid() == 0:
         cmd.insert(1, "--allow-run-as-root")
@@ -118,7 +118,9 @@ def main(argv=None):
     p.add_argument("--H-d50", type=float, default=8.0, help="cell height in d50")
     p.add_argument("--n-target", type=float, default=0.385, help="target porosity of the preparation")
     p.add_argument("--s-prep", type=float, default=5e3, help="preparation stress (Pa)")
-    p.add_argument("--prep-loops", type=int, default=15, help="max radius-expansion chunks of 2000 steps")
+    p.add_argument("--prep-loops", type=int, default=100, help="max radius-expansion chunks of 2000 steps")
+    p.add_argument("--grow-rate", type=float, default=3e-4,
+                   help="largest relative diameter growth per 20 steps during preparation")
     p.add_argument("--shrink", type=float, default=0.75, help="initial size factor before expansion")
     p.add_argument("--sv-max", type=float, default=30e6, help="vertical stress to load to (Pa)")
     p.add_argument("--v-load", type=float, default=1.0, help="platen speed (m/s)")
