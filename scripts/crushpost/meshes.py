@@ -31,3 +31,31 @@ def plate_triangles(half_width, z=0.0):
 
 def write_plate_stl(path, half_width, z=0.0):
     write_stl(path, plate_triangles(half_width, z), "plate")
+
+
+def rectangle_triangles(axis, coord, center, half_u, half_v, normal_sign=1):
+    """Rectangle in the plane x[axis] = coord (two facets).
+
+    The other two axes, in cyclic order after ``axis`` (u = axis+1, v = axis+2
+    mod 3), span ``center[u] +- half_u`` and ``center[v] +- half_v``; ``center``
+    is a 3-vector whose ``axis`` component is ignored. The facet normals point
+    along ``normal_sign`` times the ``axis`` direction.
+    """
+    u, v = (axis + 1) % 3, (axis + 2) % 3
+
+    def point(su, sv):
+        p = [0.0, 0.0, 0.0]
+        p[axis] = coord
+        p[u] = center[u] + su * half_u
+        p[v] = center[v] + sv * half_v
+        return tuple(p)
+
+    a, b, c, d = point(-1, -1), point(1, -1), point(1, 1), point(-1, 1)
+    if normal_sign >= 0:          # u x v = +axis for cyclic (axis, u, v)
+        return [(a, b, c), (a, c, d)]
+    return [(a, c, b), (a, d, c)]
+
+
+def write_rectangle_stl(path, axis, coord, center, half_u, half_v, normal_sign=1, name="plate"):
+    """One rectangular plate (see :func:`rectangle_triangles`) as an ASCII STL file."""
+    write_stl(path, rectangle_triangles(axis, coord, center, half_u, half_v, normal_sign), name)

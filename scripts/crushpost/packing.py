@@ -91,3 +91,50 @@ def write_lammps_data(path, positions, diameters, density, box, ntypes=1, atom_t
         for i, (p, d) in enumerate(zip(positions, diameters)):
             f.write("%d %d %.12g %.12g %.12g %.12g %.12g\n" % (i + 1, atom_type, d, density,
                                                                 p[0], p[1], p[2]))
+
+
+def rsa_box(diameters, lo, hi, rng=None, max_tries=200000):
+    """Random sequential addition of spheres (largest first) in the box lo <= x <= hi.
+
+    lo, hi: 3-vectors of the box corners; every sphere lies wholly inside.
+    Returns positions (n, 3). Raises RuntimeError if a sphere cannot be placed.
+    """
+    rng = np.random.default_rng(rng)
+    lo = np.asarray(lo, dtype=float)
+    hi = np.asarray(hi, dtype=float)
+    d = np.asarray(diameters, dtype=float)
+    order = np.argsort(-d)
+    r = 0.5 * d
+    pos = np.full((d.size, 3), np.nan)
+    cell = 2.0 * r.max()
+    grid = {}
+    for idx in order:
+        ri = r[idx]
+        span = hi - lo - 2.0 * ri
+        if np.any(span < 0):
+            raise RuntimeError("rsa_box: sphere %d (d = %g) does not fit in the box" % (idx, d[idx]))
+        for _ in range(max_tries):
+            p = lo + ri + span * rng.random(3)
+            k = tuple((p // cell).astype(int))
+            ok = True
+            for dx in (-1, 0, 1):
+                for dy in (-1, 0, 1):
+                    for dz in (-1, 0, 1):
+                        for j in grid.get((k[0] + dx, k[1] + dy, k[2] + dz), ()):
+                            if np.sum((pos[j] - p) ** 2) < (ri + r[j]) ** 2:
+                                ok = False
+                                break
+                        if not ok:
+                            break
+                    if not ok:
+                        break
+                if not ok:
+                    break
+            if ok:
+                pos[idx] = p
+                grid.setdefault(k, []).append(idx)
+                break
+        else:
+            raise RuntimeError("rsa_box: could not place sphere %d of %d; lower the "
+                               "solid fraction" % (idx, d.size))
+    return pos
