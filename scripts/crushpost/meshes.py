@@ -59,3 +59,41 @@ def rectangle_triangles(axis, coord, center, half_u, half_v, normal_sign=1):
 def write_rectangle_stl(path, axis, coord, center, half_u, half_v, normal_sign=1, name="plate"):
     """One rectangular plate (see :func:`rectangle_triangles`) as an ASCII STL file."""
     write_stl(path, rectangle_triangles(axis, coord, center, half_u, half_v, normal_sign), name)
+
+
+def axis_plate_triangles(half_width, axis, offset=0.0):
+    """Square plate of half-width h in the plane x_axis = offset (axis 0, 1, 2),
+    centred on the axis, normal along +axis."""
+    h = half_width
+    corners = [(-h, -h), (h, -h), (h, h), (-h, h)]
+    u, v = [(1, 2), (2, 0), (0, 1)][axis]  # in-plane axes, (u, v, axis) right-handed
+    pts = []
+    for a, b in corners:
+        p = [0.0, 0.0, 0.0]
+        p[axis], p[u], p[v] = offset, a, b
+        pts.append(tuple(p))
+    return [(pts[0], pts[1], pts[2]), (pts[0], pts[2], pts[3])]
+
+
+def cylinder_triangles(radius, z_lo, z_hi, n_seg, center=(0.0, 0.0), inward=True):
+    """Lateral surface of a cylinder with its axis along z through ``center``:
+    ``n_seg`` vertical strips (two facets each) between z_lo and z_hi, nodes on
+    the circle of ``radius`` (an inscribed polygon; its perimeter is
+    2 n_seg radius sin(pi / n_seg)). No caps. Facet normals point to the axis
+    when ``inward`` (a chamber wall), away from it otherwise. For fix
+    servo/radial, which needs exactly this shape."""
+    import math
+    x0, y0 = center
+    tris = []
+    for k in range(n_seg):
+        a0 = 2.0 * math.pi * k / n_seg
+        a1 = 2.0 * math.pi * (k + 1) / n_seg
+        b0 = (x0 + radius * math.cos(a0), y0 + radius * math.sin(a0), z_lo)
+        b1 = (x0 + radius * math.cos(a1), y0 + radius * math.sin(a1), z_lo)
+        t0 = (b0[0], b0[1], z_hi)
+        t1 = (b1[0], b1[1], z_hi)
+        if inward:
+            tris += [(b0, t1, b1), (b0, t0, t1)]
+        else:
+            tris += [(b0, b1, t1), (b0, t1, t0)]
+    return tris

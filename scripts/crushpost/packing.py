@@ -38,6 +38,31 @@ def rsa_cylinder(diameters, radius, z_lo, z_hi, rng=None, max_tries=200000):
     Returns positions (n, 3). Raises RuntimeError if a sphere cannot be placed:
     ask for a lower solid fraction or a larger container.
     """
+    def sample(rng, ri):
+        rho = (radius - ri) * math.sqrt(rng.random())
+        phi = 2.0 * math.pi * rng.random()
+        return np.array([rho * math.cos(phi), rho * math.sin(phi),
+                         z_lo + ri + (z_hi - z_lo - 2.0 * ri) * rng.random()])
+    return _rsa(diameters, sample, rng, max_tries)
+
+
+def rsa_box(diameters, lo, hi, rng=None, max_tries=200000):
+    """Random sequential addition of spheres (largest first) in the box lo <= x <= hi.
+
+    lo, hi: 3-vectors of the box corners; every sphere lies wholly inside.
+    Returns positions (n, 3). Raises RuntimeError if a sphere cannot be placed.
+    """
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    if np.any(hi - lo < np.max(diameters)):
+        raise RuntimeError("rsa_box: the largest sphere (d = %g) does not fit in the box"
+                           % np.max(diameters))
+
+    def sample(rng, ri):
+        return lo + ri + (hi - lo - 2.0 * ri) * rng.random(3)
+    return _rsa(diameters, sample, rng, max_tries)
+
+
+def _rsa(diameters, sample, rng, max_tries):
     rng = np.random.default_rng(rng)
     d = np.asarray(diameters, dtype=float)
     order = np.argsort(-d)
@@ -52,10 +77,7 @@ def rsa_cylinder(diameters, radius, z_lo, z_hi, rng=None, max_tries=200000):
     for idx in order:
         ri = r[idx]
         for _ in range(max_tries):
-            rho = (radius - ri) * math.sqrt(rng.random())
-            phi = 2.0 * math.pi * rng.random()
-            p = np.array([rho * math.cos(phi), rho * math.sin(phi),
-                          z_lo + ri + (z_hi - z_lo - 2.0 * ri) * rng.random()])
+            p = sample(rng, ri)
             k = key(p)
             ok = True
             for dx in (-1, 0, 1):
@@ -76,7 +98,7 @@ def rsa_cylinder(diameters, radius, z_lo, z_hi, rng=None, max_tries=200000):
                 grid.setdefault(k, []).append(idx)
                 break
         else:
-            raise RuntimeError("rsa_cylinder: could not place sphere %d of %d; lower the "
+            raise RuntimeError("random sequential addition: could not place sphere %d of %d; lower the "
                                "solid fraction" % (idx, d.size))
     return pos
 
@@ -92,49 +114,3 @@ def write_lammps_data(path, positions, diameters, density, box, ntypes=1, atom_t
             f.write("%d %d %.12g %.12g %.12g %.12g %.12g\n" % (i + 1, atom_type, d, density,
                                                                 p[0], p[1], p[2]))
 
-
-def rsa_box(diameters, lo, hi, rng=None, max_tries=200000):
-    """Random sequential addition of spheres (largest first) in the box lo <= x <= hi.
-
-    lo, hi: 3-vectors of the box corners; every sphere lies wholly inside.
-    Returns positions (n, 3). Raises RuntimeError if a sphere cannot be placed.
-    """
-    rng = np.random.default_rng(rng)
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
-    d = np.asarray(diameters, dtype=float)
-    order = np.argsort(-d)
-    r = 0.5 * d
-    pos = np.full((d.size, 3), np.nan)
-    cell = 2.0 * r.max()
-    grid = {}
-    for idx in order:
-        ri = r[idx]
-        span = hi - lo - 2.0 * ri
-        if np.any(span < 0):
-            raise RuntimeError("rsa_box: sphere %d (d = %g) does not fit in the box" % (idx, d[idx]))
-        for _ in range(max_tries):
-            p = lo + ri + span * rng.random(3)
-            k = tuple((p // cell).astype(int))
-            ok = True
-            for dx in (-1, 0, 1):
-                for dy in (-1, 0, 1):
-                    for dz in (-1, 0, 1):
-                        for j in grid.get((k[0] + dx, k[1] + dy, k[2] + dz), ()):
-                            if np.sum((pos[j] - p) ** 2) < (ri + r[j]) ** 2:
-                                ok = False
-                                break
-                        if not ok:
-                            break
-                    if not ok:
-                        break
-                if not ok:
-                    break
-            if ok:
-                pos[idx] = p
-                grid.setdefault(k, []).append(idx)
-                break
-        else:
-            raise RuntimeError("rsa_box: could not place sphere %d of %d; lower the "
-                               "solid fraction" % (idx, d.size))
-    return pos

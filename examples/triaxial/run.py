@@ -1,0 +1,225 @@
+#!/usr/bin/env python3
+"""Drained triaxial compression scene: build the initial packing and the six
+plates, run LIGGGHTS, post-process.
+
+    examples/triaxial/run.py --out results/triaxial [--np 2] [--grains unbreakable] [--small]
+
+Writes into --out: grains.data, plate_*.stl, log.liggghts, breakage_events.txt
+(crushable grains), triaxial.h5 (shearing path and summary),
+q_p_eps_a.png (q/p' and eps_v against eps_a), stress_path.png (q - p'),
+summary.json. All options are listed by --help; docs/triaxial.md explains the
+scene and the servo.
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
+
+import numpy as np  # noqa: E402
+
+from crushpost import triaxial  # noqa: E402
+from crushpost.meshes import write_rectangle_stl  # noqa: E402
+from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
+
+RHO = 2600.0
+G_GRAIN, NU_GRAIN = 9e9, 0.2
+FRAGMENT_SMALL = 0.230093     # radius of the small Apollonian fragment / parent radius
+D_COMM_D50 = 0.55             # comminution limit / d50 (SPEC 3)
+
+# Plate spans relative to the specimen (see docs/triaxial.md): lateral plates
+# reach LATERAL_Z_SPAN * H / 2 from mid-height and LATERAL_SPAN * W / 2 across;
+# the end plates reach END_SPAN * W / 2. The box encloses all of them.
+LATERAL_SPAN = 1.6
+LATERAL_Z_SPAN = 1.4
+END_SPAN = 1.8
+
+SIZES = {  # specimen (W, H) in d50
+    "default": (8.0, 8.0),
+    "small": (6.0, 6.0),
+}
+
+
+def rayleigh_time(r, rho=RHO, G=G_GRAIN, nu=NU_GRAIN):
+    """Rayleigh time of a sphere of radius r (SPEC section 5)."""
+    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
+
+
+def auto_dt(grains, N, d_placed_min, fraction=0.15):
+    """Time steps (dt, dt_prep): `fraction` of the Rayleigh time of the smallest
+    grain that can exist in each part of the run (SPEC section 5).
+
+    dt_prep, the preparation (no crushing fix yet): the smallest grain as
+    placed (d_placed_min, before radius expansion). dt, from consolidation on:
+    for crushable grains the smallest fragment of the smallest breakable grain
+    (radius 0.230093 d_comm / 2), otherwise the same as dt_prep.
+    """
+    dt_prep = fraction * rayleigh_time(0.5 * d_placed_min)
+    if grains == "crushable_ne34":
+        r_frag = FRAGMENT_SMALL * 0.5 * D_COMM_D50 * D50_NE34 * N
+        return min(dt_prep, fraction * rayleigh_time(r_frag)), dt_prep
+    return dt_prep, dt_prep
+
+
+def build(args, out):
+    d50 = D50_NE34 * args.N
+    W, H = args.W_d50 * d50, args.H_d50 * d50
+    rng = np.random.default_rng(args.packing_seed)
+    d = ne34_diameters(20 * int(W * W * H / d50 ** 3) + 100, args.N, rng=rng)
+    # as many grains as fill the box at the target porosity
+    n = int(np.searchsorted(np.cumsum(np.pi / 6 * d ** 3), (1 - args.n_target) * W * W * H))
+    d = d[:n]
+    pos = rsa_box(d * args.shrink, (-W / 2, -W / 2, 0.0), (W / 2, W / 2, H), rng=rng)
+    box = (-END_SPAN * W / 2 - 0.1 * W, END_SPAN * W / 2 + 0.1 * W) * 2 + \
+        (H / 2 - LATERAL_Z_SPAN * H / 2 - 0.1 * H, H / 2 + LATERAL_Z_SPAN * H / 2 + 0.1 * H)
+    box = (box[0], box[1], box[0], box[1], box[4], box[5])
+    write_lammps_data(os.path.join(out, "grains.data"), pos, d * args.shrink, RHO, box, ntypes=3)
+    centre = (0.0, 0.0, H / 2)
+    # lateral plates: x plates span (y, z); y plates span (z, x) in cyclic order
+    write_rectangle_stl(os.path.join(out, "plate_xm.stl"), 0, -W / 2, centre,
+                        LATERAL_SPAN * W / 2, LATERAL_Z_SPAN * H / 2, +1, "plate_xm")
+    write_rectangle_stl(os.path.join(out, "plate_xp.stl"), 0, W / 2, centre,
+                        LATERAL_SPAN * W / 2, LATERAL_Z_SPAN * H / 2, -1, "plate_xp")
+    write_rectangle_stl(os.path.join(out, "plate_ym.stl"), 1, -W / 2, centre,
+                        LATERAL_Z_SPAN * H / 2, LATERAL_SPAN * W / 2, +1, "plate_ym")
+    write_rectangle_stl(os.path.join(out, "plate_yp.stl"), 1, W / 2, centre,
+                        LATERAL_Z_SPAN * H / 2, LATERAL_SPAN * W / 2, -1, "plate_yp")
+    write_rectangle_stl(os.path.join(out, "plate_zm.stl"), 2, 0.0, centre,
+                        END_SPAN * W / 2, END_SPAN * W / 2, +1, "plate_zm")
+    write_rectangle_stl(os.path.join(out, "plate_zp.stl"), 2, H, centre,
+                        END_SPAN * W / 2, END_SPAN * W / 2, -1, "plate_zp")
+    return W, H, n, float(d.min())
+
+
+def liggghts_variables(args, W, H, dt, dt_prep):
+    return {"inputs": os.path.join(REPO, "inputs"), "N": args.N, "W": W, "H": H,
+            "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
+            "seed": args.seed, "dt": dt, "dt_prep": dt_prep, "p_iso": args.p_iso, "sigma3": args.sigma3,
+            "rate": args.rate, "eps_a_max": args.eps_a_max, "g_P": args.g_P, "g_I": args.g_I,
+            "e_u_max": args.e_u_max, "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
+            "chunk": args.chunk, "thermo_every": args.thermo_every,
+            "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
+            "grow_rate": args.grow_rate}
+
+
+def run_liggghts(args, out, W, H, dt, dt_prep):
+    binary = args.liggghts or os.path.join(REPO, "build", "liggghts")
+    cmd = ["mpirun", "--oversubscribe", "-np", str(args.np)]
+    if os.geteuid() == 0:
+        cmd.insert(1, "--allow-run-as-root")
+    cmd += [binary, "-in", os.path.join(HERE, "in.triaxial"), "-log", "log.liggghts",
+            "-echo", "none", "-screen", "none"]
+    for k, val in liggghts_variables(args, W, H, dt, dt_prep).items():
+        cmd += ["-var", k, repr(val) if isinstance(val, float) else str(val)]
+    env = dict(os.environ)
+    env.setdefault("OMP_NUM_THREADS", "1")
+    t0 = time.time()
+    rc = subprocess.call(cmd, cwd=out, env=env, stdin=subprocess.DEVNULL)
+    wall = time.time() - t0
+    if rc != 0:
+        sys.stderr.write("triaxial: LIGGGHTS failed (exit %d); see %s\n"
+                         % (rc, os.path.join(out, "log.liggghts")))
+        sys.exit(rc)
+    return wall
+
+
+def postprocess(args, out, wall, n0, dt):
+    path = triaxial.shear_path(os.path.join(out, "log.liggghts"))
+    res = triaxial.analyse(path, sigma3=args.sigma3, cs_window=args.cs_window,
+                           dil_window=args.dil_window, settle=args.settle)
+    summary = {
+        "grains": args.grains, "N": args.N, "n_particles_initial": int(n0),
+        "n_particles_final": int(path["Atoms"][-1]), "mpi_ranks": args.np,
+        "wall_time_s": wall, "dt": dt, "axial_strain_rate": args.rate,
+        "inertial_number": args.rate * D50_NE34 * args.N * math.sqrt(RHO / args.sigma3),
+        "p_iso": args.p_iso, "sigma3_target": args.sigma3,
+        "porosity_start_of_shearing": float(path["porosity"][0]),
+        "e_start_of_shearing": float(path["e_void"][0]),
+        "n_break_events": int(path["n_break"][-1]), "Br_final": float(path["Br"][-1]),
+    }
+    summary.update(res)
+    triaxial.write_hdf5(os.path.join(out, "triaxial.h5"), path, summary)
+    plots = triaxial.plot_all(out, path, res, "triaxial, %s, N = %g, %d grains"
+                              % (args.grains, args.N, n0))
+    summary["plots"] = [os.path.basename(p) for p in plots]
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary
+
+
+def parse_args(argv=None):
+    p = argparse.ArgumentParser(description=__doc__,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", default=os.path.join(REPO, "results", "triaxial"))
+    p.add_argument("--np", type=int, default=2, help="MPI ranks")
+    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--N", type=float, default=39.0, help="particle up-scaling factor")
+    p.add_argument("--small", action="store_true",
+                   help="small specimen (%g x %g d50, a few hundred grains) instead of %g x %g d50"
+                   % (SIZES["small"] + SIZES["default"]))
+    p.add_argument("--W-d50", type=float, default=None, help="specimen width in d50")
+    p.add_argument("--H-d50", type=float, default=None, help="specimen height in d50")
+    p.add_argument("--n-target", type=float, default=0.385, help="porosity of the preparation")
+    p.add_argument("--s-prep", type=float, default=5e3, help="preparation stress (Pa)")
+    p.add_argument("--prep-loops", type=int, default=100,
+                   help="max radius-expansion chunks of 2000 steps")
+    p.add_argument("--grow-rate", type=float, default=3e-4,
+                   help="largest relative diameter growth per 20 steps during preparation")
+    p.add_argument("--shrink", type=float, default=0.75, help="initial size factor before expansion")
+    p.add_argument("--p-iso", type=float, default=100e3, help="isotropic consolidation stress (Pa)")
+    p.add_argument("--sigma3", type=float, default=100e3, help="cell pressure while shearing (Pa)")
+    p.add_argument("--rate", type=float, default=2.0, help="axial strain rate (1/s)")
+    p.add_argument("--eps-a-max", type=float, default=0.25, help="axial strain to shear to")
+    p.add_argument("--g-P", type=float, default=3.0, help="proportional servo gain (1/s)")
+    p.add_argument("--g-I", type=float, default=300.0, help="integral servo gain (1/s^2)")
+    p.add_argument("--e-u-max", type=float, default=2.0,
+                   help="servo speed cap as a plate strain rate (1/s)")
+    p.add_argument("--cons-tol", type=float, default=0.02,
+                   help="consolidation ends when every plate is within this relative error")
+    p.add_argument("--cons-loops", type=int, default=60, help="max consolidation chunks")
+    p.add_argument("--dt", type=float, default=None,
+                   help="time step (default: 0.15 Rayleigh times of the smallest grain that "
+                   "can exist, see auto_dt)")
+    p.add_argument("--chunk", type=int, default=2000)
+    p.add_argument("--thermo-every", type=int, default=500)
+    p.add_argument("--dump-every", type=int, default=0, help="particle dumps (0 = none)")
+    p.add_argument("--seed", type=int, default=15485863)
+    p.add_argument("--packing-seed", type=int, default=2024)
+    p.add_argument("--cs-window", type=float, default=0.05,
+                   help="critical state: mean over the last this much axial strain")
+    p.add_argument("--dil-window", type=float, default=0.02,
+                   help="dilatancy: local linear fit of eps_v(eps_a) over this strain window")
+    p.add_argument("--settle", type=float, default=0.01,
+                   help="servo errors: averaged from this axial strain on")
+    p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")
+    args = p.parse_args(argv)
+    size = SIZES["small" if args.small else "default"]
+    if args.W_d50 is None:
+        args.W_d50 = size[0]
+    if args.H_d50 is None:
+        args.H_d50 = size[1]
+    return args
+
+
+def main(argv=None):
+    args = parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    W, H, n0, d_min = build(args, args.out)
+    dt, dt_prep = auto_dt(args.grains, args.N, args.shrink * d_min)
+    if args.dt:
+        dt = dt_prep = args.dt
+    wall = run_liggghts(args, args.out, W, H, dt, dt_prep)
+    summary = postprocess(args, args.out, wall, n0, dt)
+    print(json.dumps(summary, indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,211 @@
+"""crushpost.triaxial on synthetic triaxial paths with known answers."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from crushpost import triaxial as tx
+
+SIGMA3 = 100e3
+
+
+def synthetic_path(n=501, eps_max=0.25, noise=0.0, s3_wobble=0.0, seed=1):
+    """Drained path at constant sigma_3 with a known peak, critical state and
+    dilatancy:
+      eta: linear to 1.5 at eps_a = 0.05, linear down to 1.2 at 0.15, then 1.2;
+      eps_v: slope +0.2 up to 0.02 (contraction), slope -0.6 up to 0.12
+      (dilation, D = 0.6), then constant.
+    """
+    rng = np.random.default_rng(seed)
+    ea = np.linspace(0.0, eps_max, n)
+    eta = np.interp(ea, [0.0, 0.05, 0.15, 1.0], [0.0, 1.5, 1.2, 1.2])
+    ev = np.interp(ea, [0.0, 0.02, 0.12, 1.0], [0.0, 0.004, 0.004 - 0.06, 0.004 - 0.06])
+    ev = ev + noise * rng.standard_normal(n)
+    s3 = SIGMA3 * (1.0 + s3_wobble * np.sin(40 * ea))
+    q = eta * s3 / (1.0 - eta / 3.0)          # q = eta p', p' = s3 + q / 3
+    s1 = s3 + q
+    path = {"eps_a": ea, "eps_v": ev, "sigma_x": s3, "sigma_y": s3,
+            "sxm": s3, "sxp": s3, "sym": s3, "syp": s3}
+    path.update(tx.triaxial_invariants(s1, s3, s3))
+    return path
+
+
+def test_friction_angle_known_values():
+    # eta = 1.2 <=> sin(phi) = 3.6 / 7.2 = 0.5 <=> phi = 30 deg
+    assert tx.friction_angle(1.2) == pytest.approx(30.0, abs=1e-12)
+    assert tx.friction_angle(0.0) == pytest.approx(0.0, abs=1e-12)
+    phi = np.array([20.0, 33.0, 41.5])
+    np.testing.assert_allclose(tx.friction_angle(tx.stress_ratio(phi)), phi, rtol=1e-12)
+    # M = 6 sin(phi) / (3 - sin(phi)), the classical critical-state relation
+    s = math.sin(math.radians(33.0))
+    assert tx.stress_ratio(33.0) == pytest.approx(6 * s / (3 - s), rel=1e-14)
+
+
+def test_dilatancy_angle_known_values():
+    assert tx.dilatancy_angle(0.0) == pytest.approx(0.0, abs=1e-12)
+    assert tx.dilatancy_angle(2.0) == pytest.approx(30.0, abs=1e-12)   # sin psi = 1/2
+    # contraction gives a negative angle
+    assert tx.dilatancy_angle(-0.5) < 0
+
+
+def test_invariants_conventional_triaxial():
+    inv = tx.triaxial_invariants([300e3, 100e3], [100e3, 100e3], [100e3, 100e3])
+    np.testing.assert_allclose(inv["q"], [200e3, 0.0])
+    np.testing.assert_allclose(inv["p"], [500e3 / 3, 100e3])
+    np.testing.assert_allclose(inv["eta"], [1.2, 0.0])
+    # unequal lateral stresses: sigma_3 is their mean, p' the mean normal stress
+    inv = tx.triaxial_invariants(250e3, 90e3, 110e3)
+    assert inv["sigma_3"] == pytest.approx(100e3)
+    assert inv["p"] == pytest.approx((250e3 + 90e3 + 110e3) / 3)
+
+
+def test_strains_from_positions():
+    # 10 x 10 x 20 box; then 11 x 10.5 x 16: eps_a = 0.2, eps_v = 1 - 1848/2000
+    st = tx.strains_from_positions(xm=[-5, -5.5], xp=[5, 5.5], ym=[-5, -5.0], yp=[5, 5.5],
+                                   zb=[0, 1.0], zt=[20, 17.0])
+    np.testing.assert_allclose(st["eps_a"], [0.0, 0.2])
+    np.testing.assert_allclose(st["eps_x"], [0.0, -0.1])
+    np.testing.assert_allclose(st["eps_y"], [0.0, -0.05])
+    np.testing.assert_allclose(st["eps_v"], [0.0, 1 - 11 * 10.5 * 16 / 2000.0])
+    # small strains: eps_v ~ eps_a + eps_x + eps_y
+    st = tx.strains_from_positions([-1, -1.0001], [1, 1.0001], [-1, -1.0002], [1, 1.0],
+                                   [0, 0.0003], [2, 2.0])
+    lin = st["eps_a"][1] + st["eps_x"][1] + st["eps_y"][1]
+    assert st["eps_v"][1] == pytest.approx(lin, rel=1e-3)
+
+
+def test_local_slope_exact_on_quadratic():
+    # a least-squares line on a symmetric window of a parabola has the exact
+    # derivative at the window centre
+    x = np.linspace(0.0, 1.0, 201)
+    y = 3.0 * x ** 2 - x
+    s, full = tx.local_slope(x, y, 0.1)
+    np.testing.assert_allclose(s[full], (6.0 * x - 1.0)[full], rtol=1e-9, atol=1e-9)
+    assert not full[0] and not full[-1] and full[100]
+
+
+def test_analyse_recovers_known_measures():
+    path = synthetic_path()
+    r = tx.analyse(path, SIGMA3, cs_window=0.05, dil_window=0.02, settle=0.01)
+    assert r["eta_peak"] == pytest.approx(1.5, rel=1e-12)
+    assert r["eps_a_peak"] == pytest.approx(0.05, abs=1e-12)
+    assert r["phi_peak_deg"] == pytest.approx(math.degrees(math.asin(4.5 / 7.5)), rel=1e-12)
+    assert r["eta_cs"] == pytest.approx(1.2, rel=1e-12)
+    assert r["phi_cs_deg"] == pytest.approx(30.0, rel=1e-12)
+    assert r["dilatancy_max"] == pytest.approx(0.6, rel=1e-9)
+    assert 0.03 <= r["eps_a_dilatancy_max"] <= 0.11
+    assert r["psi_max_deg"] == pytest.approx(math.degrees(math.asin(0.6 / 2.6)), rel=1e-9)
+    assert r["eps_v_cs"] == pytest.approx(-0.056, rel=1e-12)
+    # constant sigma_3: q = 3 (p' - sigma_3) exactly
+    assert r["stress_path_slope"] == pytest.approx(3.0, rel=1e-12)
+    assert r["stress_path_intercept"] == pytest.approx(-3 * SIGMA3, rel=1e-9)
+    for e in r["servo_pairs"].values():
+        assert abs(e["mean"]) < 1e-15 and e["max_abs"] < 1e-15
+    assert r["q_start"] == pytest.approx(0.0, abs=1e-9)
+    json.dumps(r)   # JSON-able
+
+
+def test_analyse_with_noise():
+    path = synthetic_path(noise=2e-5)
+    r = tx.analyse(path, SIGMA3, dil_window=0.02)
+    assert r["dilatancy_max"] == pytest.approx(0.6, rel=0.1)
+
+
+def test_slope_and_servo_errors_detect_a_varying_cell_pressure():
+    # sigma_3 off by a few per cent: the path slope leaves 3, the servo error shows it
+    path = synthetic_path(s3_wobble=0.05)
+    r = tx.analyse(path, SIGMA3)
+    assert abs(r["stress_path_slope"] - 3.0) > 0.02
+    assert r["servo_pairs"]["x"]["max_abs"] == pytest.approx(0.05, rel=1e-3)
+    # a constant offset of the cell pressure shifts the line but keeps slope 3
+    path = synthetic_path()
+    for k in ("sigma_x", "sigma_y", "sxm", "sxp", "sym", "syp"):
+        path[k] = path[k] * 1.04
+    s1 = path["sigma_1"] * 0 + path["sigma_3"] * 1.04 + path["q"]
+    path.update(tx.triaxial_invariants(s1, path["sigma_x"], path["sigma_y"]))
+    r = tx.analyse(path, SIGMA3)
+    assert r["stress_path_slope"] == pytest.approx(3.0, rel=1e-12)
+    assert r["servo_pairs"]["y"]["mean"] == pytest.approx(0.04, rel=1e-9)
+
+
+def test_servo_errors():
+    e = tx.servo_errors({"a": [90.0, 110.0, 100.0, 104.0]}, 100.0)["a"]
+    assert e["mean"] == pytest.approx(0.01)
+    assert e["rms"] == pytest.approx(math.sqrt((0.01 + 0.01 + 0 + 0.0016) / 4))
+    assert e["max_abs"] == pytest.approx(0.1)
+
+
+LOG = """\
+LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0)
+Step Atoms porosity p_mean KinEng
+0 10 0.5 0 0
+Loop time of 0.1 on 1 procs for 0 steps with 10 atoms
+Step Time Atoms phase xm xp ym yp zb zt sxm sxp sym syp szb szt eps_a eps_v
+{rows1}
+Loop time of 0.1 on 1 procs for 10 steps with 10 atoms
+Step Time Atoms phase xm xp ym yp zb zt sxm sxp sym syp szb szt eps_a eps_v
+{rows2}
+Loop time of 0.1 on 1 procs for 10 steps with 10 atoms
+"""
+
+
+def _row(step, xm, xp, ym, yp, zb, zt, s_lat, s_ax, H0, V0):
+    Lx, Ly, Lz = xp - xm, yp - ym, zt - zb
+    vals = [step, step * 1e-6, 10, 2, xm, xp, ym, yp, zb, zt, s_lat, s_lat, s_lat, s_lat,
+            s_ax, s_ax, 1 - Lz / H0, 1 - Lx * Ly * Lz / V0]
+    return " ".join("%.12g" % v for v in vals)
+
+
+def test_shear_path_from_log(tmp_path):
+    H0, V0 = 2.0, 2.0 * 1.0 * 1.0
+    rows = []
+    for k in range(21):
+        e = 0.01 * k
+        a = 0.5 * (1 + 0.004 * k)
+        rows.append(_row(10 * k, -a, a, -a, a, 0.5 * e * H0, H0 - 0.5 * e * H0,
+                         1e5, 1e5 + 3e4 * k, H0, V0))
+    # the second run repeats the last row of the first (dropped on reading)
+    text = LOG.format(rows1="\n".join(rows[:11]), rows2="\n".join(rows[10:]))
+    log = tmp_path / "log.liggghts"
+    log.write_text(text)
+    p = tx.shear_path(str(log))
+    assert p["Step"].tolist() == [10 * k for k in range(21)]
+    np.testing.assert_allclose(p["eps_a_pos"], p["eps_a"], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(p["eps_v_pos"], p["eps_v"], rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(p["q"], 3e4 * np.arange(21))
+    np.testing.assert_allclose(p["p"], 1e5 + 1e4 * np.arange(21))
+    r = tx.analyse(p, 1e5, settle=0.0)
+    assert r["stress_path_slope"] == pytest.approx(3.0, rel=1e-9)
+
+
+def test_hdf5_and_plots(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    path = synthetic_path()
+    r = tx.analyse(path, SIGMA3)
+    f = tmp_path / "t.h5"
+    tx.write_hdf5(str(f), path, {"N": 39.0, "res": r})
+    with h5py.File(str(f), "r") as h:
+        np.testing.assert_array_equal(h["shear/eps_a"][()], path["eps_a"])
+        assert json.loads(h.attrs["res"])["eta_cs"] == pytest.approx(1.2)
+        assert h.attrs["N"] == 39.0
+    files = tx.plot_all(str(tmp_path), path, r, "synthetic")
+    assert [f.rsplit("/", 1)[-1] for f in files] == ["q_p_eps_a.png", "stress_path.png"]
+    for name in files:
+        with open(name, "rb") as fh:
+            assert fh.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_path_slope_unbiased_by_cell_pressure_noise():
+    # p' = sigma_3 + q / 3 with sigma_3 fluctuating at random around its target:
+    # fitting p' on q recovers 3, a plain fit of q on p' is attenuated
+    rng = np.random.default_rng(7)
+    q = np.linspace(0.0, 250e3, 400)
+    s3 = SIGMA3 * (1.0 + 0.05 * rng.standard_normal(q.size))
+    p = s3 + q / 3.0
+    slope, intercept = tx.path_slope(p, q)
+    assert slope == pytest.approx(3.0, rel=0.02)
+    assert -intercept / 3.0 == pytest.approx(SIGMA3, rel=0.01)
+    naive = np.polyfit(p, q, 1)[0]
+    assert naive < 0.9 * 3.0
