@@ -175,12 +175,12 @@ def parse_args(argv=None):
     p.add_argument("--shrink", type=float, default=0.75, help="initial size factor before expansion")
     p.add_argument("--p-iso", type=float, default=100e3, help="isotropic consolidation stress (Pa)")
     p.add_argument("--sigma3", type=float, default=100e3, help="cell pressure while shearing (Pa)")
-    p.add_argument("--rate", type=float, default=2.0, help="axial strain rate (1/s)")
+    p.add_argument("--rate", type=float, default=5.0, help="axial strain rate (1/s)")
     p.add_argument("--eps-a-max", type=float, default=0.25, help="axial strain to shear to")
-    p.add_argument("--g-P", type=float, default=3.0, help="proportional servo gain (1/s)")
-    p.add_argument("--g-I", type=float, default=300.0, help="integral servo gain (1/s^2)")
-    p.add_argument("--e-u-max", type=float, default=2.0,
-                   help="servo speed cap as a plate strain rate (1/s)")
+    p.add_argument("--g-P", type=float, default=20.0, help="proportional servo gain (1/s)")
+    p.add_argument("--g-I", type=float, default=8e4, help="integral servo gain (1/s^2)")
+    p.add_argument("--e-u-max", type=float, default=None,
+                   help="servo speed cap as a plate strain rate (1/s; default 2.5 x rate)")
     p.add_argument("--cons-tol", type=float, default=0.02,
                    help="consolidation ends when every plate is within this relative error")
     p.add_argument("--cons-loops", type=int, default=60, help="max consolidation chunks")
@@ -200,6 +200,8 @@ def parse_args(argv=None):
                    help="servo errors: averaged from this axial strain on")
     p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")
     args = p.parse_args(argv)
+    if args.e_u_max is None:
+        args.e_u_max = 2.5 * args.rate
     size = SIZES["small" if args.small else "default"]
     if args.W_d50 is None:
         args.W_d50 = size[0]

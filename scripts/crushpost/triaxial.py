@@ -151,20 +151,37 @@ def servo_errors(stresses, target):
     return out
 
 
+# columns that a run's set-up row gets wrong: LIGGGHTS 3.8 adds the wall
+# forces of the set-up force computation to the plates' force sums once more,
+# so the first thermo row of every run shows about twice the plate stresses
+# (and the servo speeds computed from them)
+SETUP_COLUMNS = ("sxm", "sxp", "sym", "syp", "szb", "szt", "uxm", "uxp", "uym", "uyp", "uzb", "uzt")
+
+
 def shear_path(log_path):
     """The shearing phase of a triaxial log as a dict of arrays.
 
-    Keeps the thermo blocks that have an ``eps_a`` column, joins them (the
-    first row of each run repeats the last of the previous one and is
-    dropped) and adds: sigma_x, sigma_y, sigma_z (plate-pair means), the
-    invariants of :func:`triaxial_invariants`, and the strains recomputed from
-    the plate positions (``eps_a_pos``, ``eps_v_pos``, ``eps_x``, ``eps_y``,
-    relative to the first row).
+    Keeps the thermo blocks that have an ``eps_a`` column and joins them (the
+    first row of each later run repeats the last of the previous one and is
+    dropped). The first row, the set-up of the first shearing run, takes the
+    plate stresses and servo speeds of the last row of the run before it (the
+    end of consolidation, same step), see SETUP_COLUMNS. Adds: sigma_x,
+    sigma_y, sigma_z (plate-pair means), the invariants of
+    :func:`triaxial_invariants`, and the strains recomputed from the plate
+    positions (``eps_a_pos``, ``eps_v_pos``, ``eps_x``, ``eps_y``, relative
+    to the first row).
     """
-    blocks = [b for b in read_log(log_path) if "eps_a" in b]
-    if not blocks:
+    every = read_log(log_path)
+    idx = [i for i, b in enumerate(every) if "eps_a" in b and len(b["Step"])]
+    if not idx:
         raise ValueError("%s: no shearing thermo blocks (column eps_a)" % log_path)
-    path = concat_blocks(blocks)
+    path = concat_blocks([every[i] for i in idx])
+    if idx[0] > 0:
+        prev = every[idx[0] - 1]
+        if len(prev["Step"]) and prev["Step"][-1] == path["Step"][0]:
+            for k in SETUP_COLUMNS:
+                if k in prev and k in path:
+                    path[k][0] = prev[k][-1]
     path["sigma_x"] = 0.5 * (path["sxm"] + path["sxp"])
     path["sigma_y"] = 0.5 * (path["sym"] + path["syp"])
     path["sigma_z"] = 0.5 * (path["szb"] + path["szt"])
@@ -213,7 +230,7 @@ def analyse(path, sigma3, cs_window=0.05, dil_window=0.02, settle=0.01):
         "psi_max_deg": float(dilatancy_angle(Dm[i_d])),
         "dil_window": dil_window,
         "stress_path_slope": slope, "stress_path_intercept": intercept,
-        "stress_path_sigma3": -intercept / 3.0,
+        "stress_path_p0": -intercept / slope,   # p' where the fitted line has q = 0
         "settle_eps_a": settle,
         "servo_pairs": servo_errors(pairs, sigma3),
         "servo_plates": servo_errors(plates, sigma3),

@@ -9,11 +9,12 @@ a. The platen follows its command.  z_top in the thermo output moves at
    continuous at the reversal; checked against the log's Time column), and
    the grains really touch a platen there: in every particle dump taken while
    sigma_v > 0.5 MPa the highest grain surface max(z + r) lies within
-   [0, 0.05 d50] above z_top (the overlap with the platen: a platen moving at
+   [0, 0.08 d50] above z_top (the overlap with the platen: a platen moving at
    another speed would leave the grains' top elsewhere), and the lowest
-   min(z - r) within 0.05 d50 below the fixed bottom platen at z = 0.
+   min(z - r) within 0.08 d50 below the fixed bottom platen at z = 0.
    sigma_v rises on loading (rank correlation with time > 0.9 once it stays
-   above 50 kPa; the last loading sample is the largest and >= sv_max) and
+   above 50 kPa; the peak among the last loading samples, the last one
+   >= sv_max) and
    falls on unloading (every sample below the peak, rank correlation with
    time < -0.9, ending below sv_end * sv_max).
 b. The void ratio falls monotonically on loading, and it is what it claims
@@ -21,7 +22,8 @@ b. The void ratio falls monotonically on loading, and it is what it claims
    and V_grains equals sum(4/3 pi r^3) of the particle dumps (to the dumps'
    6 printed digits).
 c. Br is exactly zero without crushing (and no event, no fines, constant
-   atom count); with crushing Br never decreases, is > 0 at the end and
+   atom count); with crushing Br rises at every breakage and stays put (to
+   round-off) between them, is > 0 at the end and
    larger at the peak stress than when sigma_v first passes 1 MPa, the atom
    count grows by exactly 13 per event, and the events file lists every
    event.
@@ -31,7 +33,8 @@ d. Mass balance: V_grains + fines / rho is constant over loading and
 e. Outputs: oedometer.h5 holds the path and PSD datasets, summary.json the
    advertised keys with values that agree with the path, and the PNGs exist.
 
-Both runs take about 15-30 s each on an idle 2-core machine.
+About 70 s of CPU time in all (1 minute or so on 2 idle cores; the 2-rank
+run slows down most when other jobs share the cores).
 """
 
 import json
@@ -170,10 +173,10 @@ def test_grains_touch_the_platen_where_it_is_commanded(run):
         above = np.max(z + r) - z_top      # overlap with the top platen
         below = np.min(z - r)              # overlap with the bottom platen (z = 0)
         # (dumps print 6 significant digits: 1e-6 m of slack for rounding)
-        assert -1e-6 < above < 0.05 * D50, (step, above / D50)
-        assert -0.05 * D50 < below < 1e-6, (step, below / D50)
+        assert -1e-6 < above < 0.08 * D50, (step, above / D50)
+        assert -0.08 * D50 < below < 1e-6, (step, below / D50)
         # radial: inside the frictionless cylinder, to an overlap
-        assert np.max(np.hypot(fr["x"], fr["y"]) + r) < R_CELL + 0.05 * D50
+        assert np.max(np.hypot(fr["x"], fr["y"]) + r) < R_CELL + 0.08 * D50
         checked += 1
     assert checked >= 5, checked
 
@@ -186,7 +189,10 @@ def test_vertical_stress_rises_on_loading_and_falls_on_unloading(run):
     assert len(svl) - k0 > 10, "sigma_v never settled above 50 kPa"
     rho, _ = spearmanr(np.arange(len(svl) - k0), svl[k0:])
     assert rho > 0.9, rho
-    assert svl[-1] >= SV_MAX and svl[-1] == svl.max(), (svl[-1], svl.max())
+    # loading stops at the first chunk end past sv_max; a breakage can take a
+    # little off the stress just before, so the peak is among the last samples
+    assert svl[-1] >= SV_MAX, svl[-1]
+    assert np.argmax(svl) >= len(svl) - max(3, (len(svl) - k0) // 10), (np.argmax(svl), len(svl))
     # unloading: the stress falls (the abrupt reversal of the platen makes
     # the first few samples bounce by ~10 % of sv_max, hence a rank test)
     assert svu.max() < svl[-1], (svu.max(), svl[-1])
@@ -238,8 +244,12 @@ def test_no_breakage_without_crushing(unbreakable):
 def test_breakage_grows_with_stress(crushable):
     p = crushable.path
     br, sv, nb = p["Br"], p["sv"], p["n_break"]
-    assert np.all(np.diff(br) >= 0.0), "Br decreased"
     assert np.all(np.diff(nb) >= 0.0)
+    # Br only moves at a breakage (round-off aside: it is re-summed every output)
+    dbr, dnb = np.diff(br), np.diff(nb)
+    assert np.all(dbr >= -1e-12), "Br decreased"
+    assert np.all(np.abs(dbr[dnb == 0]) <= 1e-12)
+    assert np.all(dbr[dnb > 0] > 0.0)
     assert br[-1] > 0.0 and nb[-1] > 0
     load = crushable.load
     k1 = np.flatnonzero(load & (sv >= 1e6))[0]

@@ -142,6 +142,9 @@ LIGGGHTS (Version LIGGGHTS-PUBLIC 3.8.0)
 Step Atoms porosity p_mean KinEng
 0 10 0.5 0 0
 Loop time of 0.1 on 1 procs for 0 steps with 10 atoms
+Step Time Atoms phase xm xp ym yp zb zt sxm sxp sym syp szb szt
+{cons}
+Loop time of 0.1 on 1 procs for 0 steps with 10 atoms
 Step Time Atoms phase xm xp ym yp zb zt sxm sxp sym syp szb szt eps_a eps_v
 {rows1}
 Loop time of 0.1 on 1 procs for 10 steps with 10 atoms
@@ -166,12 +169,19 @@ def test_shear_path_from_log(tmp_path):
         a = 0.5 * (1 + 0.004 * k)
         rows.append(_row(10 * k, -a, a, -a, a, 0.5 * e * H0, H0 - 0.5 * e * H0,
                          1e5, 1e5 + 3e4 * k, H0, V0))
+    # consolidation ends at step 0 with the right stresses; the set-up row of
+    # the first shearing run shows them doubled (LIGGGHTS quirk) and is mended
+    cons = rows[0].split()[:16]
+    setup = rows[0].split()
+    setup[10:16] = ["%.12g" % (2 * float(v)) for v in setup[10:16]]
+    rows1 = [" ".join(setup)] + rows[1:11]
     # the second run repeats the last row of the first (dropped on reading)
-    text = LOG.format(rows1="\n".join(rows[:11]), rows2="\n".join(rows[10:]))
+    text = LOG.format(cons=" ".join(cons), rows1="\n".join(rows1), rows2="\n".join(rows[10:]))
     log = tmp_path / "log.liggghts"
     log.write_text(text)
     p = tx.shear_path(str(log))
     assert p["Step"].tolist() == [10 * k for k in range(21)]
+    assert p["sxm"][0] == pytest.approx(1e5) and p["szt"][0] == pytest.approx(1e5)
     np.testing.assert_allclose(p["eps_a_pos"], p["eps_a"], rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(p["eps_v_pos"], p["eps_v"], rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(p["q"], 3e4 * np.arange(21))
@@ -206,6 +216,6 @@ def test_path_slope_unbiased_by_cell_pressure_noise():
     p = s3 + q / 3.0
     slope, intercept = tx.path_slope(p, q)
     assert slope == pytest.approx(3.0, rel=0.02)
-    assert -intercept / 3.0 == pytest.approx(SIGMA3, rel=0.01)
+    assert -intercept / slope == pytest.approx(SIGMA3, rel=0.02)
     naive = np.polyfit(p, q, 1)[0]
-    assert naive < 0.9 * 3.0
+    assert naive < 2.95   # attenuated by var(q)/9 / (var(q)/9 + var(sigma_3)) ~ 0.96

@@ -1,0 +1,164 @@
+"""Deck-level test of the drained triaxial scene (examples/triaxial/in.triaxial,
+SPEC section 4 item 3) on a small specimen.
+
+A 6 x 6 x 6 d50 cuboid of a few hundred unbreakable NE34 grains (N = 39) is
+prepared by radius expansion (shortened), consolidated isotropically to
+p' = 100 kPa with all six plates servo-controlled, and sheared to 6 % axial
+strain at 2 MPI ranks with the four lateral plates servo-controlled to
+sigma_3 = 100 kPa. Checked:
+
+1. the servo holds the cell pressure: the time-mean stress of each lateral
+   plate pair (and of each plate) after settling is within 5 % of sigma_3,
+   and so is its root-mean-square error;
+2. constant cell pressure gives a straight stress path of slope dq/dp' = 3:
+   the fitted slope is within 4 % of 3;
+3. physics that can fail: consolidation ends isotropic at p_iso, q starts at
+   ~0 and rises with axial strain (axial stress above the lateral ones, a
+   mobilised stress ratio typical of sand); the strains written by the deck
+   are those of the plate positions (recomputed here), the end plates close
+   at exactly the commanded axial strain rate, and the lateral plates are
+   where the integral of their commanded servo speeds puts them (so the
+   positions read from the meshes' reference points follow the meshes).
+
+A second, shorter run at 1 rank uses the crushable grains (fix crush/particle
+active, time step of the smallest possible fragment) and checks that the
+servo holds the cell pressure there too.
+"""
+
+import importlib.util
+import sys
+
+import numpy as np
+import pytest
+
+import harness
+
+EXAMPLE = harness.REPO / "examples" / "triaxial"
+sys.path.insert(0, str(harness.REPO / "scripts"))
+from crushpost import triaxial as tx  # noqa: E402
+
+SIGMA3 = 100e3
+SETTLE = 0.005          # axial strain after which the servo is judged
+COMMON = ["--small", "--prep-loops", "20", "--rate", "5", "--thermo-every", "200"]
+
+
+def _run_module():
+    spec = importlib.util.spec_from_file_location("triaxial_run", str(EXAMPLE / "run.py"))
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def run_scene(workdir, nprocs, argv):
+    run = _run_module()
+    args = run.parse_args(argv + ["--out", str(workdir)])
+    workdir.mkdir(parents=True, exist_ok=True)
+    W, H, n0, d_min = run.build(args, str(workdir))
+    dt, dt_prep = run.auto_dt(args.grains, args.N, args.shrink * d_min)
+    variables = run.liggghts_variables(args, W, H, dt, dt_prep)
+    deck = (EXAMPLE / "in.triaxial").read_text()
+    res = harness.run_deck(deck, workdir, nprocs=nprocs, variables=variables, timeout=900,
+                           check=True)
+    path = tx.shear_path(str(workdir / harness.LOG_NAME))
+    return {"res": res, "path": path, "args": args, "W": W, "H": H, "n0": n0, "dt": dt}
+
+
+@pytest.fixture(scope="module")
+def unbreakable(tmp_path_factory):
+    wd = tmp_path_factory.mktemp("triaxial_unbreakable_np2")
+    return run_scene(wd, 2, COMMON + ["--grains", "unbreakable", "--eps-a-max", "0.06"])
+
+
+@pytest.fixture(scope="module")
+def crushable(tmp_path_factory):
+    wd = tmp_path_factory.mktemp("triaxial_crushable_np1")
+    return run_scene(wd, 1, COMMON + ["--grains", "crushable_ne34", "--eps-a-max", "0.02"])
+
+
+def test_run_completes(unbreakable):
+    r = unbreakable
+    assert "TRIAXIAL done" in r["res"].log
+    assert "CONSOLIDATED" in r["res"].log
+    assert not [w for w in r["res"].warnings if "thermo_style" not in w], r["res"].warnings
+    p = r["path"]
+    assert np.all(p["Atoms"] == r["n0"])
+    assert 150 < r["n0"] < 600
+    assert p["eps_a"][-1] == pytest.approx(0.06, abs=2e-4)
+
+
+def test_consolidated_isotropically(unbreakable):
+    p = unbreakable["path"]
+    for k in ("sxm", "sxp", "sym", "syp", "szb", "szt"):
+        assert p[k][0] == pytest.approx(SIGMA3, rel=0.02), k
+    assert abs(p["q"][0]) < 0.03 * p["p"][0]
+
+
+def test_servo_holds_cell_pressure(unbreakable):
+    p = unbreakable["path"]
+    late = p["eps_a"] >= SETTLE
+    assert late.sum() > 50
+    pairs = tx.servo_errors({"x": p["sigma_x"][late], "y": p["sigma_y"][late]}, SIGMA3)
+    plates = tx.servo_errors({k: p[k][late] for k in ("sxm", "sxp", "sym", "syp")}, SIGMA3)
+    for name, e in list(pairs.items()) + list(plates.items()):
+        assert abs(e["mean"]) < 0.05, (name, e)
+        assert e["rms"] < 0.05, (name, e)
+
+
+def test_stress_path_slope_is_three(unbreakable):
+    p = unbreakable["path"]
+    late = p["eps_a"] >= SETTLE
+    slope, intercept = tx.path_slope(p["p"][late], p["q"][late])
+    assert slope == pytest.approx(3.0, rel=0.04), slope
+    # the fitted line meets q = 0 at the cell pressure
+    assert -intercept / slope == pytest.approx(SIGMA3, rel=0.03)
+
+
+def test_q_rises_from_zero(unbreakable):
+    p = unbreakable["path"]
+    ea, q, pm = p["eps_a"], p["q"], p["p"]
+    # deviator builds up: above 0.3 p' by 0.5 % axial strain, and sigma_1 > sigma_3 after
+    k = np.searchsorted(ea, 0.005)
+    assert q[k] > 0.3 * pm[k]
+    assert np.all(p["sigma_1"][k:] > p["sigma_3"][k:])
+    # mobilised friction of a sand: peak phi between 20 and 50 degrees
+    r = tx.analyse(p, SIGMA3, settle=SETTLE)
+    assert 20.0 < r["phi_peak_deg"] < 50.0, r["phi_peak_deg"]
+    assert r["eta_peak"] > 0.8
+
+
+def test_strains_follow_plate_positions(unbreakable):
+    r = unbreakable
+    p = r["path"]
+    # strains written by the deck are those of the plate positions
+    np.testing.assert_allclose(p["eps_a"], p["eps_a_pos"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(p["eps_v"], p["eps_v_pos"], rtol=0, atol=1e-6)
+    # end plates close at the commanded rate: Lz = Lz0 (1 - rate t)
+    t = p["Time"] - p["Time"][0]
+    np.testing.assert_allclose(p["eps_a"], r["args"].rate * t, rtol=1e-5, atol=1e-7)
+    # lateral plates are where the integral of their commanded speeds puts them
+    # (outwards positive; the minus plates move along -x, -y)
+    moved = {"xm": -(p["xm"] - p["xm"][0]), "xp": p["xp"] - p["xp"][0],
+             "ym": -(p["ym"] - p["ym"][0]), "yp": p["yp"] - p["yp"][0]}
+    for k, d in moved.items():
+        cmd = p["d%s_cmd" % k] - p["d%s_cmd" % k][0]
+        scale = max(np.max(np.abs(d)), 1e-3 * r["W"])
+        np.testing.assert_allclose(d, cmd, rtol=0, atol=0.01 * scale, err_msg=k)
+    # volumetric strain = 1 - product of the stretches, and the porosity agrees
+    # with the volume (constant grain volume of unbreakable grains)
+    st = 1 - (1 - p["eps_a"]) * (1 - p["eps_x"]) * (1 - p["eps_y"])
+    np.testing.assert_allclose(p["eps_v"], st, atol=1e-6)
+    solid = (1 - p["porosity"]) / (1 - p["porosity"][0])
+    np.testing.assert_allclose(solid, 1 / (1 - p["eps_v"]), rtol=1e-5)
+
+
+def test_crushable_run_holds_cell_pressure(crushable):
+    r = crushable
+    p = r["path"]
+    assert "TRIAXIAL done" in r["res"].log
+    assert r["dt"] < 2e-7          # the smallest possible fragment sets the step
+    assert np.all(p["n_break"] >= 0) and np.all(p["Br"] >= 0)
+    late = p["eps_a"] >= SETTLE
+    pairs = tx.servo_errors({"x": p["sigma_x"][late], "y": p["sigma_y"][late]}, SIGMA3)
+    for name, e in pairs.items():
+        assert abs(e["mean"]) < 0.05, (name, e)
+    assert p["q"][-1] > 0.3 * p["p"][-1]
