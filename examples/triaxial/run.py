@@ -177,8 +177,8 @@ def parse_args(argv=None):
     p.add_argument("--sigma3", type=float, default=100e3, help="cell pressure while shearing (Pa)")
     p.add_argument("--rate", type=float, default=5.0, help="axial strain rate (1/s)")
     p.add_argument("--eps-a-max", type=float, default=0.25, help="axial strain to shear to")
-    p.add_argument("--g-P", type=float, default=20.0, help="proportional servo gain (1/s)")
-    p.add_argument("--g-I", type=float, default=8e4, help="integral servo gain (1/s^2)")
+    p.add_argument("--g-P", type=float, default=40.0, help="proportional servo gain (1/s)")
+    p.add_argument("--g-I", type=float, default=3.2e5, help="integral servo gain (1/s^2)")
     p.add_argument("--e-u-max", type=float, default=None,
                    help="servo speed cap as a plate strain rate (1/s; default 2.5 x rate)")
     p.add_argument("--cons-tol", type=float, default=0.02,

@@ -1,4 +1,4 @@
-"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo} ...``."""
+"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile} ...``."""
 
 import argparse
 import json
@@ -8,6 +8,7 @@ import numpy as np
 
 from .breakage import W_FRACTAL, breakage, sphere_mass
 from .dump import read_dump
+from .meshes import write_pile_stl
 from .thermo import concat_blocks, read_log, summarize
 from .trend import fit_qc_trend
 
@@ -79,8 +80,16 @@ def _cmd_thermo(args):
     return 0
 
 
+def _cmd_pile(args):
+    info = write_pile_stl(args.out, args.radius, args.shaft_length, tip_z=args.tip_z,
+                          n_seg=args.segments, n_rings=args.shaft_rings,
+                          cone_name=args.cone_name, shaft_name=args.shaft_name)
+    print(json.dumps(info))
+    return 0
+
+
 def build_parser():
-    """The argparse parser with the ``br``, ``fit-qc`` and ``thermo`` subcommands."""
+    """The argparse parser with the ``br``, ``fit-qc``, ``thermo`` and ``pile`` subcommands."""
     ap = argparse.ArgumentParser(prog="crushpost",
                                  description="Post-processing of crushable-sand DEM runs.")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -118,6 +127,22 @@ def build_parser():
     th.add_argument("--concat", action="store_true",
                     help="summarise all runs joined instead of run by run")
     th.set_defaults(func=_cmd_thermo)
+
+    pl = sub.add_parser("pile", help="cone tip (60 deg) and shaft of the pile as two ASCII "
+                        "STL meshes; prints their geometry as JSON")
+    pl.add_argument("--radius", type=float, required=True, help="pile radius R [m]")
+    pl.add_argument("--shaft-length", type=float, required=True,
+                    help="shaft length above the cone base [m]")
+    pl.add_argument("--tip-z", type=float, default=0.0, help="z of the cone apex [m] (default 0)")
+    pl.add_argument("--segments", type=int, default=24,
+                    help="facets around the axis (default 24, at least 3)")
+    pl.add_argument("--shaft-rings", type=int, default=None,
+                    help="axial divisions of the shaft (default: facets no taller than 2 R)")
+    pl.add_argument("--out", required=True, help="output folder (created if missing)")
+    pl.add_argument("--cone-name", default="cone.stl", help="file name of the cone (cone.stl)")
+    pl.add_argument("--shaft-name", default="shaft.stl",
+                    help="file name of the shaft (shaft.stl)")
+    pl.set_defaults(func=_cmd_pile)
     return ap
 
 

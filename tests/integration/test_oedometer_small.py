@@ -33,13 +33,13 @@ d. Mass balance: V_grains + fines / rho is constant over loading and
 e. Outputs: oedometer.h5 holds the path and PSD datasets, summary.json the
    advertised keys with values that agree with the path, and the PNGs exist.
 
-About 70 s of CPU time in all (1 minute or so on 2 idle cores; the 2-rank
-run slows down most when other jobs share the cores).
+Measured on 2 cores shared with other jobs: 40 s at a load average of about 4,
+85 s at about 8 (25-45 s of CPU time); the 2-rank run slows down most when
+other jobs compete for the cores.
 """
 
 import json
 import math
-import os
 import subprocess
 import sys
 from pathlib import Path

@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+"""Cone pile jacked into crushable sand in a reduced calibration chamber.
+
+    examples/cpt_demo/run.py --out results/demo [--np 2] [--mode cyclic|monotonic]
+
+Builds the loose packing and the meshes, runs LIGGGHTS (preparation by radius
+expansion, servo to 150 kPa vertical / 76 kPa radial, then jacking with the
+lateral wall held), and writes into --out: summary.json, qc_depth.png (q_c
+against depth with the fitted trend q_c = a (1 - exp(-b h))), breakage_map.png
+(breakage events around the tip), jack.txt, breakage_events.txt, log.liggghts.
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
+
+import numpy as np  # noqa: E402
+
+from crushpost.dump import read_crush_log  # noqa: E402
+from crushpost.meshes import (annulus_triangles, cylinder_triangles, plate_triangles,  # noqa: E402
+                              write_pile_stl, write_stl)
+from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+from crushpost.thermo import read_log  # noqa: E402
+from crushpost.trend import fit_qc_trend, qc_trend  # noqa: E402
+
+RHO = 2600.0
+JACK_COLUMNS = ("step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase", "cycle")
+
+
+def build(a, out):
+    d50 = D50_NE34 * a.N
+    R, H = a.R_ch, a.H_ch
+    rng = np.random.default_rng(a.packing_seed)
+    d = ne34_diameters(int(40 * R * R * H / d50 ** 3) + 100, a.N, rng=rng)
+    n = int(np.searchsorted(np.cumsum(np.pi / 6 * d ** 3), (1 - a.n_target) * math.pi * R * R * H))
+    d = d[:n] * a.shrink
+    pos = rsa_cylinder(d, R, 0.0, H, rng=rng)
+    tip_z0 = H
+    pile = write_pile_stl(out, a.R_pile, shaft_length=a.depth + 0.05 * H + 2 * d50, tip_z=tip_z0, n_seg=24)
+    L = 1.25 * R
+    write_lammps_data(os.path.join(out, "grains.data"), pos, d, RHO,
+                      (-L, L, -L, L, -0.05 * H, pile["z_top"] + 0.02 * H), ntypes=3)
+    write_stl(os.path.join(out, "side.stl"), cylinder_triangles(R, -0.02 * H, 1.1 * H, 48), "side")
+    write_stl(os.path.join(out, "bottom.stl"), plate_triangles(1.15 * R), "bottom")
+    write_stl(os.path.join(out, "top.stl"), annulus_triangles(1.25 * a.R_pile, 1.15 * R, 0.0, 48), "top")
+    return n, tip_z0
+
+
+def run_liggghts(a, out, tip_z0):
+    binary = a.liggghts or os.path.join(REPO, "build", "liggghts")
+    if a.mode == "cyclic":
+        jack = ("mode cyclic v %g stroke %g v_unload %g pause %g depth %g zero_tol %g"
+                % (a.v_push, a.stroke, a.v_unload, a.pause, a.depth, a.zero_tol))
+    else:
+        jack = "mode monotonic v %g depth %g" % (a.v_push, a.depth)
+    v = {"inputs": os.path.join(REPO, "inputs"), "N": a.N, "R_ch": a.R_ch, "H_ch": a.H_ch,
+         "R_pile": a.R_pile, "tip_z0": tip_z0, "grain_model": a.grains, "seed": a.seed,
+         "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
+         "n_expand_max": a.prep_loops, "thermo_every": a.thermo_every, "jack_every": a.jack_every}
+    cmd = ["mpirun", "--oversubscribe", "-np", str(a.np)]
+    if os.geteuid() == 0:
+        cmd.insert(1, "--allow-run-as-root")
+    cmd += [binary, "-in", os.path.join(HERE, "in.cpt"), "-log", "log.liggghts", "-screen", "none"]
+    for k, val in v.items():
+        cmd += ["-var", k, str(val)]
+    t0 = time.time()
+    rc = subprocess.call(cmd, cwd=out)
+    if rc != 0:
+        sys.stderr.write("cpt: LIGGGHTS failed (exit %d); see %s\n" % (rc, os.path.join(out, "log.liggghts")))
+        sys.exit(rc)
+    return time.time() - t0
+
+
+def read_jack(path):
+    data = np.loadtxt(path, comments="#", ndmin=2)
+    return {k: data[:, i] for i, k in enumerate(JACK_COLUMNS[:data.shape[1]])}
+
+
+def postprocess(a, out, wall, n0, tip_z0):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    jack = read_jack(os.path.join(out, "jack.txt"))
+    area = math.pi * a.R_pile ** 2
+    qc = jack["F_cone"] / area
+    push = (jack["phase"] == 0) & (jack["depth"] > 0)
+    fit = fit_qc_trend(jack["depth"][push], qc[push])
+
+    blocks = [b for b in read_log(os.path.join(out, "log.liggghts")) if "qc" in b]
+    last = blocks[-1]
+    M0 = blocks[0]["M_grains"][0]
+    fines = last["fines"][-1]
+    mass_err = abs(last["M_grains"][-1] + fines - M0) / M0
+
+    events = None
+    ev_path = os.path.join(out, "breakage_events.txt")
+    if os.path.exists(ev_path):
+        events = read_crush_log(ev_path)
+    n_events = int(last["n_break"][-1])
+
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    ax.plot(qc / 1e6, jack["depth"] * 1e3, "-", lw=0.8, color="0.6", label="q_c (all phases)")
+    ax.plot(qc[push] / 1e6, jack["depth"][push] * 1e3, ".", ms=2, label="q_c while pushing")
+    h = np.linspace(0, jack["depth"].max(), 200)
+    ax.plot(qc_trend(h, fit.a, fit.b) / 1e6, h * 1e3, "k--",
+            label="fit a(1-exp(-bh)): a = %.2f MPa" % (fit.a / 1e6))
+    ax.invert_yaxis()
+    ax.set_xlabel("tip resistance q_c (MPa)")
+    ax.set_ylabel("tip depth (mm)")
+    ax.set_title("cone pile, %s jacking, %s" % (a.mode, a.grains))
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "qc_depth.png"), dpi=120)
+    plt.close(fig)
+
+    plots = ["qc_depth.png"]
+    if events is not None and len(events["step"]):
+        z_tip = tip_z0 - np.interp(events["step"], jack["step"], jack["depth"])
+        r = np.hypot(events["x"], events["y"]) / a.R_pile
+        hh = (events["z"] - z_tip) / a.R_pile
+        fig, ax = plt.subplots(figsize=(5, 5))
+        ax.scatter(r, hh, s=6, c=events["step"], cmap="viridis")
+        ax.axvline(1.0, color="k", lw=0.8, ls=":")
+        ax.axhline(0.0, color="k", lw=0.8, ls=":")
+        ax.set_xlabel("r / R")
+        ax.set_ylabel("h / R (height above the tip)")
+        ax.set_title("breakage events around the tip (%d)" % len(r))
+        ax.grid(True, alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "breakage_map.png"), dpi=120)
+        plt.close(fig)
+        plots.append("breakage_map.png")
+
+    summary = {
+        "qc_steady_MPa": fit.a / 1e6, "qc_fit_b": fit.b, "qc_fit_a_err_MPa": fit.a_err / 1e6,
+        "qc_fit_b_err": fit.b_err, "n_break_events": n_events,
+        "fines_mass_fraction": float(fines / M0), "mass_balance_rel_error": float(mass_err),
+        "n_particles_initial": int(n0), "n_particles_final": int(last["Atoms"][-1]),
+        "final_depth_m": float(jack["depth"].max()), "cycles": int(jack["cycle"].max()) if "cycle" in jack else 0,
+        "wall_time_s": wall, "mpi_ranks": a.np, "mode": a.mode, "grains": a.grains, "N": a.N,
+        "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "plots": plots,
+    }
+    with open(os.path.join(out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+    return summary
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", default=os.path.join(REPO, "results", "cpt_demo"))
+    p.add_argument("--np", type=int, default=2)
+    p.add_argument("--mode", default="cyclic", choices=["cyclic", "monotonic"])
+    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--N", type=float, default=39.0)
+    p.add_argument("--R-ch", type=float, default=0.072, help="chamber radius (m)")
+    p.add_argument("--H-ch", type=float, default=0.12, help="chamber height (m)")
+    p.add_argument("--R-pile", type=float, default=0.018, help="pile radius (m)")
+    p.add_argument("--n-target", type=float, default=0.385)
+    p.add_argument("--shrink", type=float, default=0.75)
+    p.add_argument("--prep-loops", type=int, default=60)
+    p.add_argument("--servo-steps", type=int, default=30000)
+    p.add_argument("--v-push", type=float, default=0.5)
+    p.add_argument("--stroke", type=float, default=0.015)
+    p.add_argument("--v-unload", type=float, default=0.05)
+    p.add_argument("--pause", type=float, default=2e-3)
+    p.add_argument("--depth", type=float, default=0.045)
+    p.add_argument("--zero-tol", type=float, default=1.0)
+    p.add_argument("--dt", type=float, default=1.5e-7)
+    p.add_argument("--thermo-every", type=int, default=1000)
+    p.add_argument("--jack-every", type=int, default=200)
+    p.add_argument("--seed", type=int, default=15485863)
+    p.add_argument("--packing-seed", type=int, default=2024)
+    p.add_argument("--liggghts", default=None)
+    a = p.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    n0, tip_z0 = build(a, a.out)
+    wall = run_liggghts(a, a.out, tip_z0)
+    print(json.dumps(postprocess(a, a.out, wall, n0, tip_z0), indent=2))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

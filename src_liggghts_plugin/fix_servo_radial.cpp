@@ -1,0 +1,609 @@
+/* ----------------------------------------------------------------------
+   fix servo/radial: radial stress servo of a cylindrical mesh wall
+   (SPEC section 4 item 4). See the header and docs/fix_servo_radial.md.
+   The math lives in crush_servo_kernel.h.
+
+   How the wall moves. Each step the x and y coordinates of every node of
+   the mesh (owned and ghost elements, the same factor on every rank) are
+   scaled about the axis, R -> R + v_r dt; z is left alone, so the wall
+   keeps its height. The nodes are reached as the mesh movers of fix
+   move/mesh reach them (MeshMover::get_nodes). Then what LIGGGHTS derives
+   from the nodes is brought up to date: element centres and bounding radii
+   with the mesh's own updateCenterRbound(), and the surface properties
+   (edge lengths, edge unit vectors and normals, facet normals, areas,
+   obtuse-angle index; element properties of the mesh) recomputed with the
+   formulas of SurfaceMesh/TriMesh (crush_servo_kernel.h); at every set-up
+   the fix checks that those formulas reproduce the mesh's own values. A
+   uniform scale() would be simpler but stretches the wall vertically too.
+
+   The move is registered with the mesh (registerMove), which makes it a
+   moving mesh: it is re-distributed over the ranks at every
+   re-neighboring (and its surface properties recomputed by LIGGGHTS
+   there), its neighbor lists use the full skin, and it asks for a
+   re-neighboring when a node has moved more than half the skin
+   (MultiNodeMesh::decideRebuild in FixMesh::pre_force). The nodal wall
+   velocity (element property 'v', used by fix wall/gran for the relative
+   contact velocity) is the radial expansion.
+------------------------------------------------------------------------- */
+
+#include "fix_servo_radial.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+#include "comm.h"
+#include "container.h"
+#include "crush_servo_kernel.h"
+#include "domain.h"
+#include "error.h"
+#include "fix_mesh_surface.h"
+#include "fix_move_mesh.h"
+#include "fix_wall_gran.h"
+#include "input.h"
+#include "mesh_mover.h"
+#include "modify.h"
+#include "tri_mesh.h"
+#include "update.h"
+#include "variable.h"
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+using namespace CrushKernels;
+
+namespace {
+
+std::string str(const char *a) { return std::string(a ? a : ""); }
+
+// relative tolerances of the geometry check
+const double kVerticalTol = 1e-4;  // |n_z| of a facet
+const double kRadiusTol = 1e-3;    // spread of node distances from the axis
+const double kConventionTol = 1e-9;  // recomputed surface properties vs the mesh's
+
+// Access to the node array of a mesh, as a mesh mover has it; moves nothing
+// by itself (the movers' hooks are empty).
+class NodeAccess : public MeshMover {
+ public:
+  NodeAccess(LAMMPS *lmp, AbstractMesh *mesh) : MeshMover(lmp, mesh, NULL) {}
+  void post_create() {}
+  void pre_delete() {}
+  void initial_integrate(double, double, double) {}
+};
+
+}  // namespace
+
+/* ---------------------------------------------------------------------- */
+
+FixServoRadial::FixServoRadial(LAMMPS *lmp, int narg, char **arg) :
+  Fix(lmp, narg, arg),
+  target_(-1.0), gain_(-1.0), vmax_(-1.0), height_const_(-1.0), height_ivar_(-1),
+  x0_(0.0), y0_(0.0), fix_mesh_(NULL), mesh_(NULL), node_access_(NULL), registered_(false),
+  radius_(0.0), sigma_r_(0.0), v_r_(0.0), height_now_(0.0)
+{
+  parse_args(narg, arg);
+
+  if (domain->xperiodic || domain->yperiodic || domain->zperiodic)
+    error->all(FLERR, "fix servo/radial: needs a non-periodic box (boundary f or m in x, y and z): "
+                      "the wall is scaled about its axis, which periodic images do not follow");
+
+  fix_mesh_ = find_mesh(true);
+  mesh_ = fix_mesh_->triMesh();
+  check_mesh_compatible();
+  node_access_ = new NodeAccess(lmp, mesh_);
+
+  vector_flag = 1;
+  size_vector = 3;
+  global_freq = 1;
+  extvector = 0;
+  nevery = 1;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixServoRadial::parse_args(int narg, char **arg)
+{
+  // fix ID group servo/radial mesh MESH target S gain K [vmax V] height H|v_NAME [axis X0 Y0]
+  int iarg = 3;
+  while (iarg < narg) {
+    const std::string key = arg[iarg];
+    if (key == "mesh") {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "fix servo/radial: keyword 'mesh' needs the ID of a fix mesh/surface/stress");
+      mesh_id_ = arg[iarg + 1];
+      iarg += 2;
+      continue;
+    }
+    if (key == "height") {
+      if (iarg + 2 > narg)
+        error->all(FLERR, "fix servo/radial: keyword 'height' needs a value: a number > 0 (m) "
+                          "or v_NAME (equal-style variable)");
+      const char *v = arg[iarg + 1];
+      if (strncmp(v, "v_", 2) == 0) {
+        if (v[2] == '\0')
+          error->all(FLERR, "fix servo/radial: keyword 'height' got 'v_' without a variable name");
+        height_var_ = v + 2;
+        height_const_ = -1.0;
+      } else {
+        char *end = NULL;
+        const double h = strtod(v, &end);
+        if (end == v || *end != '\0')
+          error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword 'height' is "
+                             "neither a number nor v_NAME; allowed: a number > 0 (m) or v_NAME").c_str());
+        if (!(h > 0.0) || !std::isfinite(h))
+          error->all(FLERR, ("fix servo/radial: keyword 'height' must be > 0 (m), got " + str(v)).c_str());
+        height_const_ = h;
+        height_var_.clear();
+      }
+      iarg += 2;
+      continue;
+    }
+    if (key == "axis") {
+      if (iarg + 3 > narg)
+        error->all(FLERR, "fix servo/radial: keyword 'axis' needs two values X0 Y0 (m), any real numbers");
+      double xy[2];
+      for (int k = 0; k < 2; k++) {
+        const char *v = arg[iarg + 1 + k];
+        char *end = NULL;
+        xy[k] = strtod(v, &end);
+        if (end == v || *end != '\0' || !std::isfinite(xy[k]))
+          error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword 'axis' is not a "
+                             "finite number; 'axis X0 Y0' takes two real numbers (m)").c_str());
+      }
+      x0_ = xy[0];
+      y0_ = xy[1];
+      iarg += 3;
+      continue;
+    }
+
+    const char *range = NULL;
+    if (key == "target") range = "> 0 (Pa)";
+    else if (key == "gain") range = "> 0 (m/s per Pa)";
+    else if (key == "vmax") range = "> 0 (m/s)";
+    else
+      error->all(FLERR, ("fix servo/radial: unknown keyword '" + key +
+                         "'; expected mesh, target, gain, vmax, height, axis").c_str());
+    if (iarg + 2 > narg)
+      error->all(FLERR, ("fix servo/radial: keyword '" + key + "' needs a value " + range).c_str());
+    const char *v = arg[iarg + 1];
+    char *end = NULL;
+    const double val = strtod(v, &end);
+    if (end == v || *end != '\0')
+      error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword '" + key +
+                         "' is not a number; allowed range is " + range).c_str());
+    // written so that NaN is rejected too
+    if (!(val > 0.0) || !std::isfinite(val))
+      error->all(FLERR, ("fix servo/radial: keyword '" + key + "' must be " + range +
+                         ", got " + str(v)).c_str());
+    if (key == "target") target_ = val;
+    else if (key == "gain") gain_ = val;
+    else vmax_ = val;
+    iarg += 2;
+  }
+
+  const char *missing = NULL;
+  if (mesh_id_.empty()) missing = "mesh";
+  else if (target_ < 0.0) missing = "target";
+  else if (gain_ < 0.0) missing = "gain";
+  else if (height_const_ < 0.0 && height_var_.empty()) missing = "height";
+  if (missing)
+    error->all(FLERR, ("fix servo/radial: missing required keyword '" + str(missing) +
+                       "' (required: mesh ID, target S > 0, gain K > 0, height H > 0 or v_NAME)").c_str());
+  if (vmax_ < 0.0) vmax_ = gain_ * target_;
+}
+
+/* ---------------------------------------------------------------------- */
+
+FixServoRadial::~FixServoRadial()
+{
+  delete node_access_;
+}
+
+/* ----------------------------------------------------------------------
+   the mesh fix by ID; NULL (or an error if must_exist) when it is gone
+------------------------------------------------------------------------- */
+
+FixMeshSurface *FixServoRadial::find_mesh(bool must_exist)
+{
+  const int ifix = modify->find_fix(mesh_id_.c_str());
+  if (ifix < 0) {
+    if (must_exist)
+      error->all(FLERR, ("fix servo/radial: no fix with ID '" + mesh_id_ +
+                         "' given to keyword 'mesh' (define the fix mesh/surface/stress first)").c_str());
+    return NULL;
+  }
+  FixMeshSurface *fm = dynamic_cast<FixMeshSurface *>(modify->fix[ifix]);
+  if (!fm || !fm->trackStress())
+    error->all(FLERR, ("fix servo/radial: fix '" + mesh_id_ + "' (" + str(modify->fix[ifix]->style) +
+                       ") given to keyword 'mesh' is not a fix mesh/surface/stress with stress "
+                       "tracking on; the servo reads the wall force from it").c_str());
+  return fm;
+}
+
+/* ----------------------------------------------------------------------
+   nothing else may move this mesh
+------------------------------------------------------------------------- */
+
+void FixServoRadial::check_mesh_compatible()
+{
+  if (fix_mesh_->get_module("servo"))
+    error->all(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' is a fix mesh/surface/stress/servo, "
+                       "which moves the mesh itself; use fix mesh/surface/stress").c_str());
+  if (fix_mesh_->surfaceVel())
+    error->all(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' has a surface velocity "
+                       "(keywords velocity or angular_velocity), which sets the wall velocity the "
+                       "servo needs to set").c_str());
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *f = modify->fix[i];
+    if (!f || f == this) continue;
+    FixMoveMesh *mv = dynamic_cast<FixMoveMesh *>(f);
+    if (mv && mv->fixMeshCompare(fix_mesh_))
+      error->all(FLERR, ("fix servo/radial: fix move/mesh '" + str(f->id) + "' also moves mesh '" +
+                         mesh_id_ + "'; a servo-controlled wall cannot be moved by another fix").c_str());
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixServoRadial::post_create()
+{
+  // a moving mesh: parallel re-distribution at re-neighboring, neighbor
+  // lists with the full skin, re-neighboring when a node moved skin/2
+  mesh_->registerMove(true, false, false);
+  registered_ = true;
+
+  if (!mesh_->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v"))
+    mesh_->prop().addElementProperty<MultiVectorContainer<double, 3, 3> >(
+        "v", "comm_exchange_borders", "frame_invariant", "restart_no");
+  mesh_->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v")->setAll(0.0);
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixServoRadial::pre_delete(bool unfixflag)
+{
+  // the mesh fix may already be gone (deleted first at the end of a run)
+  const int ifix = modify->find_fix(mesh_id_.c_str());
+  if (ifix < 0 || modify->fix[ifix] != fix_mesh_ || !registered_) return;
+
+  if (unfixflag) {
+    // the wall stands still from now on: the radius is held
+    MultiVectorContainer<double, 3, 3> *v =
+        mesh_->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v");
+    if (v) v->setAll(0.0);
+  }
+  mesh_->unregisterMove(true, false, false);
+  registered_ = false;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int FixServoRadial::setmask()
+{
+  int mask = 0;
+  mask |= INITIAL_INTEGRATE;
+  mask |= END_OF_STEP;
+  return mask;
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixServoRadial::init()
+{
+  if (strstr(update->integrate_style, "respa"))
+    error->all(FLERR, "fix servo/radial does not support run_style respa");
+
+  FixMeshSurface *fm = find_mesh(true);
+  if (fm != fix_mesh_)
+    error->all(FLERR, ("fix servo/radial: fix '" + mesh_id_ + "' was replaced after this fix was "
+                       "defined; unfix and define fix servo/radial again").c_str());
+  check_mesh_compatible();
+
+  int me = -1;
+  for (int i = 0; i < modify->nfix; i++) {
+    Fix *f = modify->fix[i];
+    if (f == this) { me = i; continue; }
+    if (f && strcmp(f->style, style) == 0 &&
+        static_cast<FixServoRadial *>(f)->mesh_id_ == mesh_id_)
+      error->all(FLERR, ("fix servo/radial: fixes '" + str(f->id) + "' and '" + str(id) +
+                         "' both servo mesh '" + mesh_id_ + "'; use one").c_str());
+  }
+
+  // the stress read at setup is complete only when the wall forces have been
+  // added, i.e. when this fix comes after the fix wall/gran of the mesh
+  int last_wall = -1;
+  for (int i = 0; i < modify->nfix; i++) {
+    FixWallGran *w = dynamic_cast<FixWallGran *>(modify->fix[i]);
+    if (!w || !w->is_mesh_wall()) continue;
+    for (int k = 0; k < w->n_meshes(); k++)
+      if (w->mesh_list()[k] == fix_mesh_) last_wall = i;
+  }
+  if (last_wall < 0) {
+    if (comm->me == 0)
+      error->warning(FLERR, ("fix servo/radial: no fix wall/gran uses mesh '" + mesh_id_ +
+                             "'; the measured stress is zero and the wall will shrink").c_str());
+  } else if (last_wall > me) {
+    error->all(FLERR, ("fix servo/radial: define it after fix wall/gran '" +
+                       str(modify->fix[last_wall]->id) + "', which puts the grains' forces on mesh '" +
+                       mesh_id_ + "'").c_str());
+  }
+
+  if (!height_var_.empty()) {
+    height_ivar_ = input->variable->find(const_cast<char *>(height_var_.c_str()));
+    if (height_ivar_ < 0)
+      error->all(FLERR, ("fix servo/radial: variable '" + height_var_ + "' given to keyword "
+                         "'height' does not exist").c_str());
+    if (!input->variable->equalstyle(height_ivar_))
+      error->all(FLERR, ("fix servo/radial: variable '" + height_var_ + "' given to keyword "
+                         "'height' must be equal-style").c_str());
+  }
+}
+
+/* ---------------------------------------------------------------------- */
+
+void FixServoRadial::setup(int)
+{
+  if (!mesh_->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v")) {
+    mesh_->prop().addElementProperty<MultiVectorContainer<double, 3, 3> >(
+        "v", "comm_exchange_borders", "frame_invariant", "restart_no");
+    mesh_->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v")->setAll(0.0);
+  }
+  check_geometry();
+  // our formulas for the derived geometry must reproduce the mesh's own
+  // (refreshed by fix mesh/surface in setup_pre_force)
+  const double dev = refresh_surface_geometry(true);
+  if (!(dev <= kConventionTol)) {
+    char buf[64];
+    snprintf(buf, sizeof(buf), "%g", dev);
+    error->all(FLERR, ("fix servo/radial: internal check failed: the recomputed surface geometry "
+                       "of mesh '" + mesh_id_ + "' differs from LIGGGHTS' by " + buf +
+                       " (a LIGGGHTS version with other mesh conventions?)").c_str());
+  }
+  // At setup fix mesh/surface has made its reverse communication before fix
+  // wall/gran added the forces of the set-up: each contact sits on the owned
+  // or ghost copy of its element on the rank of its grain, so count both.
+  measure(true);
+  v_r_ = servo_radial_velocity(sigma_r_, target_, gain_, vmax_);
+}
+
+/* ----------------------------------------------------------------------
+   move the wall: R -> R + v_r dt, scaling x and y of every node about the
+   axis; then the derived geometry and the nodal velocities
+------------------------------------------------------------------------- */
+
+void FixServoRadial::initial_integrate(int)
+{
+  const double factor = radial_scale_factor(radius_, v_r_, update->dt);
+  if (!(factor > 0.0))
+    error->all(FLERR, "fix servo/radial: the wall radius would become <= 0; lower 'vmax' or the time step");
+  if (factor != 1.0) {
+    double ***node = node_access_->get_nodes();
+    const int nall = mesh_->sizeLocal() + mesh_->sizeGhost();
+    for (int i = 0; i < nall; i++)
+      for (int j = 0; j < 3; j++) scale_node_xy(node[i][j], x0_, y0_, factor);
+    // centres, bounding radii and the global bounding box (collective)
+    mesh_->updateCenterRbound(0, nall);
+    refresh_surface_geometry(false);
+    radius_ *= factor;
+  }
+  set_wall_velocity(v_r_);
+}
+
+/* ----------------------------------------------------------------------
+   the element forces of this step are complete (reverse-communicated in
+   fix mesh/surface's final_integrate): measure and set the next velocity
+------------------------------------------------------------------------- */
+
+void FixServoRadial::end_of_step()
+{
+  measure(false);
+  v_r_ = servo_radial_velocity(sigma_r_, target_, gain_, vmax_);
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixServoRadial::compute_vector(int n)
+{
+  if (n == 0) return radius_;
+  if (n == 1) return sigma_r_;
+  if (n == 2) return v_r_;
+  return 0.0;
+}
+
+/* ---------------------------------------------------------------------- */
+
+double FixServoRadial::sample_height()
+{
+  if (height_var_.empty()) return height_const_;
+  modify->clearstep_compute();
+  const double h = input->variable->compute_equal(height_ivar_);
+  modify->addstep_compute(update->ntimestep + 1);
+  if (!(h > 0.0) || !std::isfinite(h)) {
+    char buf[64];
+    snprintf(buf, sizeof(buf), "%g", h);
+    error->all(FLERR, ("fix servo/radial: variable '" + height_var_ + "' given to keyword 'height' "
+                       "is " + buf + "; the sample height must be > 0").c_str());
+  }
+  return h;
+}
+
+/* ----------------------------------------------------------------------
+   radius, mid-height and radial stress of the wall
+   include_ghosts: add the forces held by ghost elements (at setup only,
+   before any reverse communication); geometry is from owned elements
+------------------------------------------------------------------------- */
+
+void FixServoRadial::measure(bool include_ghosts)
+{
+  VectorContainer<double, 3> *fc = mesh_->prop().getElementProperty<VectorContainer<double, 3> >("f");
+  if (!fc)
+    error->all(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' has no element force 'f' "
+                       "(fix mesh/surface/stress with stress on)").c_str());
+
+  const int nown = mesh_->sizeLocal();
+  const int nall = include_ghosts ? nown + mesh_->sizeGhost() : nown;
+
+  // sums: F_r, area, sum of node distances, number of nodes
+  double sums[4] = {0.0, 0.0, 0.0, 0.0};
+  // maxima: z_max, -z_min
+  double maxs[2] = {-1e300, -1e300};
+  double p[3][3], n_out[3], c[3];
+
+  for (int i = 0; i < nall; i++) {
+    for (int j = 0; j < 3; j++) mesh_->node(i, j, p[j]);
+    const double area = wall_triangle_geometry(p[0], p[1], p[2], x0_, y0_, n_out, c);
+    sums[0] += element_radial_force((*fc)(i), n_out);
+    if (i >= nown) continue;
+    sums[1] += area;
+    for (int j = 0; j < 3; j++) {
+      sums[2] += radial_distance(p[j][0], p[j][1], x0_, y0_);
+      sums[3] += 1.0;
+      if (p[j][2] > maxs[0]) maxs[0] = p[j][2];
+      if (-p[j][2] > maxs[1]) maxs[1] = -p[j][2];
+    }
+  }
+  double sums_all[4], maxs_all[2];
+  MPI_Allreduce(sums, sums_all, 4, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(maxs, maxs_all, 2, MPI_DOUBLE, MPI_MAX, world);
+
+  const double wall_height = maxs_all[0] + maxs_all[1];
+  if (!(sums_all[3] > 0.0) || !(wall_height > 0.0) || !(sums_all[1] > 0.0))
+    error->all(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' has no height or no area").c_str());
+
+  radius_ = sums_all[2] / sums_all[3];
+  height_now_ = sample_height();
+  sigma_r_ = radial_stress(sums_all[0], wall_perimeter(sums_all[1], wall_height), height_now_);
+}
+
+/* ----------------------------------------------------------------------
+   the mesh must be vertical facets with every node on one circle about
+   the axis
+------------------------------------------------------------------------- */
+
+void FixServoRadial::check_geometry()
+{
+  const int nown = mesh_->sizeLocal();
+  double p[3][3], n_out[3], c[3];
+  // maxima: |n_z|, r_max, -r_min
+  double maxs[3] = {0.0, -1e300, -1e300};
+  for (int i = 0; i < nown; i++) {
+    for (int j = 0; j < 3; j++) mesh_->node(i, j, p[j]);
+    wall_triangle_geometry(p[0], p[1], p[2], x0_, y0_, n_out, c);
+    if (std::fabs(n_out[2]) > maxs[0]) maxs[0] = std::fabs(n_out[2]);
+    for (int j = 0; j < 3; j++) {
+      const double r = radial_distance(p[j][0], p[j][1], x0_, y0_);
+      if (r > maxs[1]) maxs[1] = r;
+      if (-r > maxs[2]) maxs[2] = -r;
+    }
+  }
+  double all[3];
+  MPI_Allreduce(maxs, all, 3, MPI_DOUBLE, MPI_MAX, world);
+  const double rmax = all[1], rmin = -all[2];
+  char buf[256];
+  if (all[0] > kVerticalTol) {
+    snprintf(buf, sizeof(buf), "a facet normal has a z component of %g", all[0]);
+    error->all(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' is not a cylinder of vertical "
+                       "facets (" + buf + "); the lateral wall only, no caps").c_str());
+  }
+  if (!(rmin > 0.0) || rmax - rmin > kRadiusTol * rmax) {
+    snprintf(buf, sizeof(buf), "node distances from the axis range from %g to %g m", rmin, rmax);
+    error->all(FLERR, ("fix servo/radial: the nodes of mesh '" + mesh_id_ + "' are not on one "
+                       "circle about the axis (x0, y0) of keyword 'axis' (" + buf + ")").c_str());
+  }
+}
+
+/* ----------------------------------------------------------------------
+   nodal wall velocity of owned and ghost elements: radial, v_r at the nodes
+------------------------------------------------------------------------- */
+
+void FixServoRadial::set_wall_velocity(double v_r)
+{
+  MultiVectorContainer<double, 3, 3> *vc =
+      mesh_->prop().getElementProperty<MultiVectorContainer<double, 3, 3> >("v");
+  if (!vc) return;
+  double ***v = vc->begin();
+  const int nall = mesh_->sizeLocal() + mesh_->sizeGhost();
+  double node[3];
+  for (int i = 0; i < nall; i++)
+    for (int j = 0; j < 3; j++) {
+      mesh_->node(i, j, node);
+      radial_node_velocity(node, x0_, y0_, v_r, radius_, v[i][j]);
+    }
+}
+
+/* ----------------------------------------------------------------------
+   surface properties of all (owned and ghost) elements from their nodes,
+   as SurfaceMesh::recalcLocalSurfProperties / recalcGhostSurfProperties
+   compute them. check_only: compare with the stored values instead and
+   return the largest difference (lengths and areas relative), collective.
+------------------------------------------------------------------------- */
+
+double FixServoRadial::refresh_surface_geometry(bool check_only)
+{
+  CustomValueTracker &prop = mesh_->prop();
+  VectorContainer<double, 3> *edgeLen = prop.getElementProperty<VectorContainer<double, 3> >("edgeLen");
+  MultiVectorContainer<double, 3, 3> *edgeVec =
+      prop.getElementProperty<MultiVectorContainer<double, 3, 3> >("edgeVec");
+  MultiVectorContainer<double, 3, 3> *edgeNorm =
+      prop.getElementProperty<MultiVectorContainer<double, 3, 3> >("edgeNorm");
+  VectorContainer<double, 3> *surfaceNorm = prop.getElementProperty<VectorContainer<double, 3> >("surfaceNorm");
+  ScalarContainer<double> *area = prop.getElementProperty<ScalarContainer<double> >("area");
+  ScalarContainer<double> *areaAcc = prop.getElementProperty<ScalarContainer<double> >("areaAcc");
+  ScalarContainer<int> *obtuse = prop.getElementProperty<ScalarContainer<int> >("obtuseAngleIndex");
+  ScalarContainer<double> *areaMesh = prop.getGlobalProperty<ScalarContainer<double> >("areaMesh");
+  if (!edgeLen || !edgeVec || !edgeNorm || !surfaceNorm || !area || !areaAcc || !obtuse || !areaMesh)
+    error->all(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' lacks the surface properties of a "
+                       "LIGGGHTS 3.8 surface mesh").c_str());
+
+  const int nlocal = mesh_->sizeLocal();
+  const int nall = nlocal + mesh_->sizeGhost();
+  double ***node = node_access_->get_nodes();
+  double dev = 0.0;
+  double area_owned = 0.0, area_ghost = 0.0, acc = 0.0;
+  TriangleGeometry g;
+
+  for (int i = 0; i < nall; i++) {
+    const double *const p[3] = {node[i][0], node[i][1], node[i][2]};
+    if (!triangle_surface_geometry(p, g))
+      error->one(FLERR, ("fix servo/radial: mesh '" + mesh_id_ + "' has a degenerate triangle").c_str());
+    if (check_only) {
+      const double L = (*edgeLen)(i)[0] + (*edgeLen)(i)[1] + (*edgeLen)(i)[2];
+      for (int j = 0; j < 3; j++) {
+        dev = std::fmax(dev, std::fabs(g.edge_len[j] - (*edgeLen)(i)[j]) / L);
+        dev = std::fmax(dev, std::fabs(g.surf_norm[j] - (*surfaceNorm)(i)[j]));
+        for (int k = 0; k < 3; k++) {
+          dev = std::fmax(dev, std::fabs(g.edge_vec[j][k] - (*edgeVec)(i)[j][k]));
+          dev = std::fmax(dev, std::fabs(g.edge_norm[j][k] - (*edgeNorm)(i)[j][k]));
+        }
+      }
+      dev = std::fmax(dev, std::fabs(g.area - (*area)(i)) / (*area)(i));
+      continue;
+    }
+    for (int j = 0; j < 3; j++) {
+      (*edgeLen)(i)[j] = g.edge_len[j];
+      (*surfaceNorm)(i)[j] = g.surf_norm[j];
+      for (int k = 0; k < 3; k++) {
+        (*edgeVec)(i)[j][k] = g.edge_vec[j][k];
+        (*edgeNorm)(i)[j][k] = g.edge_norm[j][k];
+      }
+    }
+    (*area)(i) = g.area;
+    acc += g.area;
+    (*areaAcc)(i) = acc;
+    (*obtuse)(i) = g.obtuse;
+    if (i < nlocal) area_owned += g.area;
+    else area_ghost += g.area;
+  }
+
+  if (check_only) {
+    double dev_all = 0.0;
+    MPI_Allreduce(&dev, &dev_all, 1, MPI_DOUBLE, MPI_MAX, world);
+    return dev_all;
+  }
+  double area_global = 0.0;
+  MPI_Allreduce(&area_owned, &area_global, 1, MPI_DOUBLE, MPI_SUM, world);
+  (*areaMesh)(0) = area_global;
+  (*areaMesh)(1) = area_owned;
+  (*areaMesh)(2) = area_ghost;
+  return 0.0;
+}
