@@ -51,6 +51,7 @@ def build(a, out):
     write_stl(os.path.join(out, "side.stl"), cylinder_triangles(R, -0.02 * H, 1.1 * H, 48), "side")
     write_stl(os.path.join(out, "bottom.stl"), plate_triangles(1.15 * R), "bottom")
     write_stl(os.path.join(out, "top.stl"), annulus_triangles(1.25 * a.R_pile, 1.15 * R, 0.0, 48), "top")
+    write_stl(os.path.join(out, "plug.stl"), plate_triangles(1.4 * a.R_pile, 0.001 * H), "plug")
     return n, tip_z0
 
 
@@ -64,7 +65,7 @@ def run_liggghts(a, out, tip_z0):
     v = {"inputs": os.path.join(REPO, "inputs"), "N": a.N, "R_ch": a.R_ch, "H_ch": a.H_ch,
          "R_pile": a.R_pile, "tip_z0": tip_z0, "grain_model": a.grains, "seed": a.seed,
          "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
-         "n_expand_max": a.prep_loops, "thermo_every": a.thermo_every, "jack_every": a.jack_every}
+         "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every, "jack_every": a.jack_every}
     cmd = ["mpirun", "--oversubscribe", "-np", str(a.np)]
     if os.geteuid() == 0:
         cmd.insert(1, "--allow-run-as-root")
@@ -162,18 +163,19 @@ def main(argv=None):
     p.add_argument("--mode", default="cyclic", choices=["cyclic", "monotonic"])
     p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
     p.add_argument("--N", type=float, default=39.0)
-    p.add_argument("--R-ch", type=float, default=0.072, help="chamber radius (m)")
-    p.add_argument("--H-ch", type=float, default=0.12, help="chamber height (m)")
+    p.add_argument("--R-ch", type=float, default=0.05, help="chamber radius (m)")
+    p.add_argument("--H-ch", type=float, default=0.08, help="chamber height (m)")
     p.add_argument("--R-pile", type=float, default=0.018, help="pile radius (m)")
     p.add_argument("--n-target", type=float, default=0.385)
     p.add_argument("--shrink", type=float, default=0.75)
-    p.add_argument("--prep-loops", type=int, default=60)
-    p.add_argument("--servo-steps", type=int, default=30000)
-    p.add_argument("--v-push", type=float, default=0.5)
-    p.add_argument("--stroke", type=float, default=0.015)
-    p.add_argument("--v-unload", type=float, default=0.05)
-    p.add_argument("--pause", type=float, default=2e-3)
-    p.add_argument("--depth", type=float, default=0.045)
+    p.add_argument("--prep-loops", type=int, default=40)
+    p.add_argument("--s-prep", type=float, default=50e3, help="radius-expansion stress (Pa)")
+    p.add_argument("--servo-steps", type=int, default=20000)
+    p.add_argument("--v-push", type=float, default=1.0)
+    p.add_argument("--stroke", type=float, default=0.007)
+    p.add_argument("--v-unload", type=float, default=0.5)
+    p.add_argument("--pause", type=float, default=5e-4)
+    p.add_argument("--depth", type=float, default=0.021)
     p.add_argument("--zero-tol", type=float, default=1.0)
     p.add_argument("--dt", type=float, default=1.5e-7)
     p.add_argument("--thermo-every", type=int, default=1000)

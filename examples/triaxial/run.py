@@ -103,7 +103,8 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
             "seed": args.seed, "dt": dt, "dt_prep": dt_prep, "p_iso": args.p_iso, "sigma3": args.sigma3,
             "rate": args.rate, "eps_a_max": args.eps_a_max, "g_P": args.g_P, "g_I": args.g_I,
-            "e_u_max": args.e_u_max, "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
+            "e_u_max": args.e_u_max, "e_u_cons": args.e_u_cons,
+            "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
             "chunk": args.chunk, "thermo_every": args.thermo_every,
             "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
             "grow_rate": args.grow_rate}
@@ -180,7 +181,11 @@ def parse_args(argv=None):
     p.add_argument("--g-P", type=float, default=40.0, help="proportional servo gain (1/s)")
     p.add_argument("--g-I", type=float, default=3.2e5, help="integral servo gain (1/s^2)")
     p.add_argument("--e-u-max", type=float, default=None,
-                   help="servo speed cap as a plate strain rate (1/s; default 2.5 x rate)")
+                   help="servo speed cap while shearing, as a plate strain rate "
+                   "(1/s; default 2.5 x rate)")
+    p.add_argument("--e-u-cons", type=float, default=None,
+                   help="servo speed cap during consolidation, as a plate strain rate "
+                   "(1/s; default: rate)")
     p.add_argument("--cons-tol", type=float, default=0.02,
                    help="consolidation ends when every plate is within this relative error")
     p.add_argument("--cons-loops", type=int, default=60, help="max consolidation chunks")
@@ -202,6 +207,8 @@ def parse_args(argv=None):
     args = p.parse_args(argv)
     if args.e_u_max is None:
         args.e_u_max = 2.5 * args.rate
+    if args.e_u_cons is None:
+        args.e_u_cons = args.rate
     size = SIZES["small" if args.small else "default"]
     if args.W_d50 is None:
         args.W_d50 = size[0]

@@ -17,7 +17,9 @@ and the values at the start of shearing (index ``ref``):
   from a least-squares line through the points within a strain window, and the
   dilatancy angle ``sin(psi) = D / (2 + D)`` (Schanz & Vermeer 1996, from
   ``sin psi = -d eps_v / (2 d eps_1 - d eps_v)``);
-* critical state: means over the last ``cs_window`` of axial strain.
+* critical state: means over the last ``cs_window`` of axial strain; the
+  dilatancy over that window (``dilatancy_cs``, a line fitted to eps_v) tells
+  whether the volume has indeed stopped changing.
 
 Thermo columns used (LIGGGHTS drops the v_ prefix in the header):
 ``Step Time Atoms phase xm xp ym yp zb zt sxm sxp sym syp szb szt uxm uxp uym
@@ -212,6 +214,9 @@ def analyse(path, sigma3, cs_window=0.05, dil_window=0.02, settle=0.01):
     if np.all(np.isnan(Dm)):
         Dm = D
     i_d = int(np.nanargmax(Dm))
+    # dilatancy over the critical-state window: ~0 if the volume has settled
+    m_cs = ea >= ea.max() - cs_window
+    D_cs = -np.polyfit(ea[m_cs], ev[m_cs], 1)[0] if m_cs.sum() >= 3 else float("nan")
     late = ea >= settle
     slope, intercept = path_slope(np.asarray(path["p"])[late], np.asarray(path["q"])[late])
     plates = {k: np.asarray(path[k])[late] for k in ("sxm", "sxp", "sym", "syp") if k in path}
@@ -225,7 +230,7 @@ def analyse(path, sigma3, cs_window=0.05, dil_window=0.02, settle=0.01):
         "phi_peak_deg": float(friction_angle(eta_pk)),
         "eta_cs": cs["eta"], "p_cs": cs["p"], "q_cs": cs["q"], "eps_v_cs": cs["eps_v"],
         "phi_cs_deg": float(friction_angle(cs["eta"])),
-        "cs_window": cs_window,
+        "cs_window": cs_window, "dilatancy_cs": float(D_cs),
         "dilatancy_max": float(Dm[i_d]), "eps_a_dilatancy_max": float(ea[i_d]),
         "psi_max_deg": float(dilatancy_angle(Dm[i_d])),
         "dil_window": dil_window,

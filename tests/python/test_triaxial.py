@@ -98,6 +98,7 @@ def test_analyse_recovers_known_measures():
     assert 0.03 <= r["eps_a_dilatancy_max"] <= 0.11
     assert r["psi_max_deg"] == pytest.approx(math.degrees(math.asin(0.6 / 2.6)), rel=1e-9)
     assert r["eps_v_cs"] == pytest.approx(-0.056, rel=1e-12)
+    assert r["dilatancy_cs"] == pytest.approx(0.0, abs=1e-12)   # volume settled
     # constant sigma_3: q = 3 (p' - sigma_3) exactly
     assert r["stress_path_slope"] == pytest.approx(3.0, rel=1e-12)
     assert r["stress_path_intercept"] == pytest.approx(-3 * SIGMA3, rel=1e-9)
