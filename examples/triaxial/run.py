@@ -131,14 +131,14 @@ def run_liggghts(args, out, W, H, dt, dt_prep):
     return wall
 
 
-def postprocess(args, out, wall, n0, dt):
+def postprocess(args, out, wall, n0, dt, dt_prep):
     path = triaxial.shear_path(os.path.join(out, "log.liggghts"))
     res = triaxial.analyse(path, sigma3=args.sigma3, cs_window=args.cs_window,
                            dil_window=args.dil_window, settle=args.settle)
     summary = {
         "grains": args.grains, "N": args.N, "n_particles_initial": int(n0),
         "n_particles_final": int(path["Atoms"][-1]), "mpi_ranks": args.np,
-        "wall_time_s": wall, "dt": dt, "axial_strain_rate": args.rate,
+        "wall_time_s": wall, "dt": dt, "dt_prep": dt_prep, "axial_strain_rate": args.rate,
         "inertial_number": args.rate * D50_NE34 * args.N * math.sqrt(RHO / args.sigma3),
         "p_iso": args.p_iso, "sigma3_target": args.sigma3,
         "porosity_start_of_shearing": float(path["porosity"][0]),
@@ -163,8 +163,9 @@ def parse_args(argv=None):
     p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
     p.add_argument("--N", type=float, default=39.0, help="particle up-scaling factor")
     p.add_argument("--small", action="store_true",
-                   help="small specimen (%g x %g d50, a few hundred grains) instead of %g x %g d50"
-                   % (SIZES["small"] + SIZES["default"]))
+                   help="small specimen (W x W x H = %g x %g x %g d50, a few hundred grains) "
+                   "instead of %g x %g x %g d50"
+                   % ((SIZES["small"][0],) + SIZES["small"] + (SIZES["default"][0],) + SIZES["default"]))
     p.add_argument("--W-d50", type=float, default=None, help="specimen width in d50")
     p.add_argument("--H-d50", type=float, default=None, help="specimen height in d50")
     p.add_argument("--n-target", type=float, default=0.385, help="porosity of the preparation")
@@ -192,7 +193,7 @@ def parse_args(argv=None):
     p.add_argument("--dt", type=float, default=None,
                    help="time step (default: 0.15 Rayleigh times of the smallest grain that "
                    "can exist, see auto_dt)")
-    p.add_argument("--chunk", type=int, default=2000)
+    p.add_argument("--chunk", type=int, default=2000, help="steps between consolidation checks")
     p.add_argument("--thermo-every", type=int, default=500)
     p.add_argument("--dump-every", type=int, default=0, help="particle dumps (0 = none)")
     p.add_argument("--seed", type=int, default=15485863)
@@ -225,7 +226,7 @@ def main(argv=None):
     if args.dt:
         dt = dt_prep = args.dt
     wall = run_liggghts(args, args.out, W, H, dt, dt_prep)
-    summary = postprocess(args, args.out, wall, n0, dt)
+    summary = postprocess(args, args.out, wall, n0, dt, dt_prep)
     print(json.dumps(summary, indent=2))
     return 0
 

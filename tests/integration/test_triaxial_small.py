@@ -142,7 +142,7 @@ def test_strains_follow_plate_positions(unbreakable):
     for k, d in moved.items():
         cmd = p["d%s_cmd" % k] - p["d%s_cmd" % k][0]
         scale = max(np.max(np.abs(d)), 1e-3 * r["W"])
-        np.testing.assert_allclose(d, cmd, rtol=0, atol=0.01 * scale, err_msg=k)
+        np.testing.assert_allclose(d, cmd, rtol=0, atol=2e-3 * scale, err_msg=k)
     # volumetric strain = 1 - product of the stretches, and the porosity agrees
     # with the volume (constant grain volume of unbreakable grains)
     st = 1 - (1 - p["eps_a"]) * (1 - p["eps_x"]) * (1 - p["eps_y"])
