@@ -39,6 +39,7 @@ import math
 import os
 import platform
 import re
+import shutil
 import statistics
 import subprocess
 import sys
@@ -363,6 +364,11 @@ def main():
     print("waiting for a quiet machine (1-min load < %.2f, at most %d s)" % (args.max_load, args.max_wait),
           flush=True)
     quiet, load_history = wait_for_quiet(args.max_load, args.max_wait, 20)
+    # every run uses one frozen copy of the binary, even if build/ is rebuilt meanwhile
+    binfo = build_info(args.liggghts)
+    frozen = os.path.join(out, "liggghts.bench")
+    shutil.copy2(args.liggghts, frozen)
+    args.liggghts = frozen
     load_start = os.getloadavg()
     t_start = time.time()
     runs = []
@@ -391,7 +397,7 @@ def main():
         "packing": stats, "steps": args.steps, "dt_s": args.dt, "thermo_every": args.thermo_every,
         "reps": args.reps, "ranks": args.ranks,
         "mpirun": "mpirun --allow-run-as-root --oversubscribe -np P",
-        "machine": machine_info(), "build": build_info(args.liggghts),
+        "machine": machine_info(), "build": binfo,
         "load": {"max_load": args.max_load, "quiet_before_start": quiet,
                  "waited_s": load_history[-1][0], "load_at_start": list(load_start),
                  "load_at_end": list(load_end)},

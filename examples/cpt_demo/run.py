@@ -94,7 +94,11 @@ def postprocess(a, out, wall, n0, tip_z0):
     area = math.pi * a.R_pile ** 2
     qc = jack["F_cone"] / area
     push = (jack["phase"] == 0) & (jack["depth"] > 0)
-    fit = fit_qc_trend(jack["depth"][push], qc[push])
+    # over a shallow push q_c has not levelled off: bound b so that a stays a
+    # finite (lower) estimate of the plateau, and say whether it levelled off
+    h_max = jack["depth"][push].max()
+    fit = fit_qc_trend(jack["depth"][push], qc[push], b_min=1.0 / h_max)
+    levelled_off = bool(fit.b * h_max > 3.0)
 
     blocks = [b for b in read_log(os.path.join(out, "log.liggghts")) if "qc" in b]
     last = blocks[-1]
@@ -144,7 +148,7 @@ def postprocess(a, out, wall, n0, tip_z0):
 
     summary = {
         "qc_steady_MPa": fit.a / 1e6, "qc_fit_b": fit.b, "qc_fit_a_err_MPa": fit.a_err / 1e6,
-        "qc_fit_b_err": fit.b_err, "n_break_events": n_events,
+        "qc_fit_b_err": fit.b_err, "qc_levelled_off": levelled_off, "n_break_events": n_events,
         "fines_mass_fraction": float(fines / M0), "mass_balance_rel_error": float(mass_err),
         "n_particles_initial": int(n0), "n_particles_final": int(last["Atoms"][-1]),
         "final_depth_m": float(jack["depth"].max()), "cycles": int(jack["cycle"].max()) if "cycle" in jack else 0,

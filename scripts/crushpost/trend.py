@@ -41,7 +41,7 @@ def _initial_guess(h, q):
     return a0, 1.0 / h63
 
 
-def fit_qc_trend(h, q_c, p0=None, sigma=None):
+def fit_qc_trend(h, q_c, p0=None, sigma=None, b_min=None):
     """Fit ``q_c(h) = a (1 - exp(-b h))`` by nonlinear least squares.
 
     Parameters
@@ -52,6 +52,10 @@ def fit_qc_trend(h, q_c, p0=None, sigma=None):
         the depth where ``q_c`` reaches 63 % of it.
     sigma : optional per-point standard deviations of ``q_c`` (relative
         weights; the errors are scaled by the residual variance).
+    b_min : optional lower bound on ``b``. Over a depth range much shorter
+        than 1/b the data are nearly linear and the fit runs away to a huge
+        ``a`` and ``b -> 0``; a bound such as ``1 / max(h)`` keeps ``a`` finite
+        (then ``a`` is a lower estimate of the plateau, not a measured one).
 
     Returns
     -------
@@ -69,6 +73,11 @@ def fit_qc_trend(h, q_c, p0=None, sigma=None):
         raise ValueError("need at least 3 finite points to fit 2 parameters")
     if p0 is None:
         p0 = _initial_guess(h, q)
-    popt, pcov = curve_fit(qc_trend, h, q, p0=p0, sigma=sigma, maxfev=20000)
+    if b_min is None:
+        popt, pcov = curve_fit(qc_trend, h, q, p0=p0, sigma=sigma, maxfev=20000)
+    else:
+        p0 = (p0[0], max(p0[1], 1.01 * b_min))
+        popt, pcov = curve_fit(qc_trend, h, q, p0=p0, sigma=sigma, maxfev=20000,
+                               bounds=([-np.inf, b_min], [np.inf, np.inf]))
     err = np.sqrt(np.diag(pcov))
     return QcFit(float(popt[0]), float(popt[1]), float(err[0]), float(err[1]))
