@@ -30,6 +30,15 @@ overlap into rattlers (diameter 0.99 of the spacing, no contact). The number of
 rattlers and the resulting contacts per grain are reported. After each
 crushing run the script asserts that f_crush[1] (breakage events) is 0 and the
 number of atoms has not changed.
+
+Timing hygiene: before measuring, the script waits (at most --max-wait s) until
+the 1-minute load average is below --max-load; before each stock/crush pair it
+waits until other processes use at most --max-others cores (from /proc/stat),
+and it measures the CPU other processes used during each run (machine busy
+time minus the CPU time of our own mpirun). A pair disturbed by other
+processes is repeated (at most --retries times); results.json keeps every
+attempt and the summary uses the last attempt of each repetition. Every run
+uses one frozen copy of build/liggghts (results/bench_crush_overhead/liggghts.bench).
 """
 
 import argparse
@@ -459,13 +468,15 @@ def main():
     with open(args.results, "w") as fh:
         json.dump(result, fh, indent=1)
 
-    print("\n| ranks | stock loop (s), median | crush loop (s), median | ratio of medians | per-pair ratios min..max |")
-    print("|---|---|---|---|---|")
+    print("\n| ranks | stock loop (s), median | crush loop (s), median | ratio of medians "
+          "| per-pair ratios min..max | \"Other\" stock / crush (s) | clean pairs |")
+    print("|---|---|---|---|---|---|---|")
     for np_ in args.ranks:
         s = summary[str(np_)]
-        print("| %d | %.2f | %.2f | %.3f | %.3f..%.3f |" % (np_, s["stock_median_s"], s["crush_median_s"],
-                                                          s["ratio_of_medians"], s["pair_ratio_min"],
-                                                          s["pair_ratio_max"]))
+        print("| %d | %.2f | %.2f | %.3f | %.3f..%.3f | %.2f / %.2f | %d of %d |"
+              % (np_, s["stock_median_s"], s["crush_median_s"], s["ratio_of_medians"],
+                 s["pair_ratio_min"], s["pair_ratio_max"], s["stock_other_median_s"],
+                 s["crush_other_median_s"], sum(s["pairs_clean"]), len(s["pairs_clean"])))
     print("load (1 min) at start %.2f, at end %.2f%s" % (load_start[0], load_end[0],
                                                          "" if quiet else " (machine never got quiet)"))
     print("wrote", os.path.relpath(args.results, REPO))
