@@ -251,13 +251,16 @@ void FixCrushParticle::init()
   E_.assign(ntypes_mat_, 0.0);
   nu_.assign(ntypes_mat_, 0.0);
   E_star_.assign(ntypes_mat_ * ntypes_mat_, 0.0);
+  overlap_coef_.assign(ntypes_mat_ * ntypes_mat_, 0.0);
   for (int t = 0; t < ntypes_mat_; t++) {
     E_[t] = Y->compute_vector(t);
     nu_[t] = nu->compute_vector(t);
   }
   for (int a = 0; a < ntypes_mat_; a++)
-    for (int b = 0; b < ntypes_mat_; b++)
+    for (int b = 0; b < ntypes_mat_; b++) {
       E_star_[a * ntypes_mat_ + b] = effective_modulus(E_[a], nu_[a], E_[b], nu_[b]);
+      overlap_coef_[a * ntypes_mat_ + b] = limit_overlap_coefficient(E_star_[a * ntypes_mat_ + b]);
+    }
 
   walls_.clear();
   for (int k = 0; k < modify->nfix; k++)
@@ -434,13 +437,18 @@ void FixCrushParticle::find_candidates_pairs()
       if (rsq >= radsum * radsum) continue;
       const bool j_on = j < nlocal && eligible(j);
       if (!i_on && !j_on) continue;
+      // multiply-only limit test; the exact overlap and R* only for the few
+      // contacts that pass it
+      const double rirj = ri * radius[j];
+      const double coef = overlap_coef(type[i], type[j]);
+      const bool i_hit = i_on && pair_limit_reached(rsq, radsum, rirj, crush_[i][0], coef);
+      const bool j_hit = j_on && pair_limit_reached(rsq, radsum, rirj, crush_[j][0], coef);
+      if (!i_hit && !j_hit) continue;
       const double delta = radsum - sqrt(rsq);
       const double R_star = effective_radius(ri, radius[j]);
       const double Es = E_star(type[i], type[j]);
-      if (i_on && delta >= limit_overlap(crush_[i][0], R_star, Es))
-        consider(i, delta, R_star, Es, PARTNER_PARTICLE);
-      if (j_on && delta >= limit_overlap(crush_[j][0], R_star, Es))
-        consider(j, delta, R_star, Es, PARTNER_PARTICLE);
+      if (i_hit) consider(i, delta, R_star, Es, PARTNER_PARTICLE);
+      if (j_hit) consider(j, delta, R_star, Es, PARTNER_PARTICLE);
     }
   }
 }

@@ -74,6 +74,8 @@ class FixCrushParticle : public Fix {
   std::vector<double> E_star_;
   std::vector<double> E_, nu_;
   double E_star(int ti, int tj) const { return E_star_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
+  std::vector<double> overlap_coef_;  // (3 pi / (4 E*))^2 per type pair
+  double overlap_coef(int ti, int tj) const { return overlap_coef_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
 
   class Pair *pair_;
   std::vector<class FixWallGran *> walls_;

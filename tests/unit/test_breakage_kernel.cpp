@@ -416,3 +416,40 @@ TEST(BreakageKernel, ShearModulusFromYoung)
   }
   EXPECT_NEAR(shear_modulus(3.0, 0.5), 1.0, 1e-15);
 }
+
+// The multiply-only pair test must agree with the direct overlap test
+// radsum - |dx| >= limit_overlap(sigma, R*, E*) except within rounding of the
+// boundary, and must be exact on both sides of it.
+TEST(BreakageKernel, PairLimitReachedMatchesOverlapTest)
+{
+  uint64_t state = 12345;
+  auto uni = [&state](double lo, double hi) {
+    state = splitmix64(state);
+    return lo + (hi - lo) * ((state >> 11) * (1.0 / 9007199254740992.0));
+  };
+  int n_true = 0, n_false = 0;
+  for (int k = 0; k < 200000; k++) {
+    const double rp = uni(0.2e-3, 5e-3), rq = uni(0.2e-3, 5e-3);
+    const double sigma = uni(1e6, 2e9), E = uni(5e9, 5e10);
+    const double radsum = rp + rq;
+    const double R = effective_radius(rp, rq);
+    const double dlim = limit_overlap(sigma, R, E);
+    // overlaps spread around the limit overlap, some beyond radsum
+    const double delta = dlim * uni(0.0, 2.0);
+    if (delta >= radsum) continue;
+    const double dist = radsum - delta;
+    const double rsq = dist * dist;
+    const bool direct = (radsum - std::sqrt(rsq)) >= dlim;
+    const bool fast = pair_limit_reached(rsq, radsum, rp * rq, sigma,
+                                         limit_overlap_coefficient(E));
+    if (std::fabs(delta - dlim) > 1e-9 * dlim) EXPECT_EQ(direct, fast) << k;
+    (direct ? n_true : n_false)++;
+  }
+  EXPECT_GT(n_true, 10000);
+  EXPECT_GT(n_false, 10000);
+  // a limit overlap beyond the sum of radii can never be reached
+  EXPECT_FALSE(pair_limit_reached(0.0, 1e-3, 0.25e-6, 2e9, limit_overlap_coefficient(1e-3)));
+  // exact hand case: r = 1, 1 (R* = 1/2), sigma = 1, c = 0.04 -> dlim = 0.02
+  EXPECT_TRUE(pair_limit_reached(1.97 * 1.97, 2.0, 1.0, 1.0, 0.04));
+  EXPECT_FALSE(pair_limit_reached(1.99 * 1.99, 2.0, 1.0, 1.0, 0.04));
+}
