@@ -72,6 +72,29 @@ inline bool pair_limit_reached(double rsq, double radsum, double rp_rq,
   return A >= 0.0 && A * A >= radsum_sq * rsq;
 }
 
+// Overlap a contact still lacks before particle p reaches its limit,
+// delta_lim - delta with delta_lim = r_p r_q sigma_lim^2 c / radsum (negative
+// once reached). For particles not in contact delta < 0 is minus their gap
+// (radsum - distance). Used by
+// FixCrushParticle::find_candidates_pairs to know how far particles may move
+// before a contact list must be looked at again.
+inline double pair_limit_margin(double delta, double radsum, double rp_rq,
+                                double sigma_lim, double coef)
+{
+  return rp_rq * sigma_lim * sigma_lim * coef / radsum - delta;
+}
+
+// May a contact list be skipped? Its margin B holds while the overlap of any
+// of its pairs changes by less than B; an overlap changes by at most the sum
+// of the two particles' displacements a + b, and (a + b)^2 <= 2 (a^2 + b^2),
+// so 2 (a^2 + b^2) < B^2 with B > 0 proves a + b < B without square roots.
+// a2: squared displacement of the list's particle, b2: the largest squared
+// displacement of any particle on this rank (owned or ghost).
+inline bool margin_holds(double a2, double b2, double B)
+{
+  return B > 0.0 && 2.0 * (a2 + b2) < B * B;
+}
+
 // Strength with size effect: sigma_lim = sigma_lim0 f (d / (N d0))^(-3/m).
 // Called by FixCrushParticle::assign_strength for initial grains and fragments.
 inline double size_effect_strength(double sigma_lim0, double f, double d, double N,

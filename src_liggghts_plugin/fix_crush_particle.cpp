@@ -64,6 +64,8 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   d_max_(-1), d_min_(-1), omega_(2.6), d_frag_min_(0.0),
   dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
+  margin_skip_(true), full_scan_pending_(true), scanned_fraction_(1.0), scanned_since_full_(0.0),
+  lists_scanned_(0.0), lists_total_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
   initialized_(false), maxtag_ever_(0), time_offset_(0.0), restart_time_(0.0),
   restart_time_pending_(false), cache_step_(-1)
@@ -84,7 +86,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 2;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 6;
+  size_vector = 7;
   global_freq = 1;
   extvector = 0;
 
@@ -121,19 +123,20 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     // keywords without a numeric value
-    if (key == "events" || key == "dt_check" || key == "events_append") {
+    if (key == "events" || key == "dt_check" || key == "events_append" || key == "margin_skip") {
       if (iarg + 2 > narg)
         error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
       if (key == "events") {
         delete[] events_file_;
         events_file_ = new char[strlen(arg[iarg + 1]) + 1];
         strcpy(events_file_, arg[iarg + 1]);
-      } else if (key == "events_append") {
+      } else if (key == "events_append" || key == "margin_skip") {
         const std::string v = arg[iarg + 1];
-        if (v == "yes") events_append_ = true;
-        else if (v == "no") events_append_ = false;
+        bool &flag = (key == "events_append") ? events_append_ : margin_skip_;
+        if (v == "yes") flag = true;
+        else if (v == "no") flag = false;
         else
-          error->all(FLERR, ("fix crush/particle: keyword 'events_append' must be 'yes' or 'no', got '" + v + "'").c_str());
+          error->all(FLERR, ("fix crush/particle: keyword '" + key + "' must be 'yes' or 'no', got '" + v + "'").c_str());
       } else {
         const std::string v = arg[iarg + 1];
         if (v == "warn") dt_check_error_ = false;
@@ -158,7 +161,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     if (!known)
       error->all(FLERR, ("fix crush/particle: unknown keyword '" + key +
                          "'; expected sigma_lim0, m, d0, scale, var, d_comm, seed, br, d_max, "
-                         "d_min, omega, d_frag_min, events, events_append, dt_check, dt_frac").c_str());
+                         "d_min, omega, d_frag_min, events, events_append, dt_check, dt_frac, margin_skip").c_str());
     if (iarg + 2 > narg)
       error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
     char *end = NULL;
@@ -270,6 +273,7 @@ void FixCrushParticle::init()
   candidate_slot_.clear();
   candidates_.clear();
   cache_step_ = -1;
+  full_scan_pending_ = true;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -293,8 +297,8 @@ void FixCrushParticle::assign_missing_strengths()
     if (crush_[i][0] < 0.0) assign_strength(i);
 }
 
-void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); }
-void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); }
+void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
+void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
 
 /* ---------------------------------------------------------------------- */
 
@@ -416,40 +420,108 @@ void FixCrushParticle::find_candidates_pairs()
   if (!list) return;
   double **x = atom->x;
   const double *radius = atom->radius;
-  const int *type = atom->type;
   const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
   const int inum = list->inum;
   const int *ilist = list->ilist;
-  const int *numneigh = list->numneigh;
-  int **firstneigh = list->firstneigh;
 
+  // A full scan (every list, new reference positions) after a neighbour-list
+  // build (new pairs, new ghosts, new particles), when the reference arrays
+  // do not match, or when most lists had to be looked at anyway.
+  bool full = !margin_skip_ || full_scan_pending_ || (int)r0_.size() != nall ||
+              scanned_since_full_ >= 1.0;
+  double D2 = 0.0;
+  if (!full) {
+    for (int k = 0; k < nall; k++) {
+      const double dx = x[k][0] - x0_[3 * k], dy = x[k][1] - x0_[3 * k + 1],
+                   dz = x[k][2] - x0_[3 * k + 2];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      if (k < nlocal) d2_[k] = d2;  // only owned particles have lists
+      if (d2 > D2) D2 = d2;
+      // a radius changed (e.g. fix adapt): the limit overlaps changed too
+      if (radius[k] != r0_[k]) { full = true; break; }
+    }
+  }
+  if (full && margin_skip_) {
+    x0_.resize(3 * nall);
+    r0_.resize(nall);
+    d2_.assign(nall, 0.0);
+    for (int k = 0; k < nall; k++) {
+      x0_[3 * k] = x[k][0]; x0_[3 * k + 1] = x[k][1]; x0_[3 * k + 2] = x[k][2];
+      r0_[k] = radius[k];
+    }
+    D2 = 0.0;
+  }
+  if (margin_skip_ && (int)margin_.size() < atom->nlocal) margin_.resize(atom->nmax, 0.0);
+  full_scan_pending_ = false;
+
+  const double D = sqrt(D2);
+  int scanned = 0;
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
-    const bool i_on = eligible(i);
-    const double xi = x[i][0], yi = x[i][1], zi = x[i][2], ri = radius[i];
-    const int *jlist = firstneigh[i];
-    const int jnum = numneigh[i];
-    for (int jj = 0; jj < jnum; jj++) {
-      const int j = jlist[jj] & NEIGHMASK;
-      const double dx = xi - x[j][0], dy = yi - x[j][1], dz = zi - x[j][2];
-      const double radsum = ri + radius[j];
-      const double rsq = dx * dx + dy * dy + dz * dz;
-      if (rsq >= radsum * radsum) continue;
-      const bool j_on = j < nlocal && eligible(j);
-      if (!i_on && !j_on) continue;
-      // multiply-only limit test; the exact overlap and R* only for the few
-      // contacts that pass it
-      const double rirj = ri * radius[j];
-      const double coef = overlap_coef(type[i], type[j]);
-      const bool i_hit = i_on && pair_limit_reached(rsq, radsum, rirj, crush_[i][0], coef);
-      const bool j_hit = j_on && pair_limit_reached(rsq, radsum, rirj, crush_[j][0], coef);
-      if (!i_hit && !j_hit) continue;
+    if (!full && margin_holds(d2_[i], D2, margin_[i])) continue;
+    pairs_scan(i, full, D2, D);
+    scanned++;
+  }
+  // a full scan starts afresh; after a partial one, the share decides
+  scanned_fraction_ = (full || inum == 0) ? 0.0 : (double)scanned / inum;
+  scanned_since_full_ = full ? 0.0 : scanned_since_full_ + scanned_fraction_;
+  lists_scanned_ += scanned;
+  lists_total_ += inum;
+}
+
+/* ----------------------------------------------------------------------
+   Test every pair in the contact list of particle i; with margin_skip also
+   store the list's margin: the smallest overlap any of its pairs still lacks
+   to reach a limit, less what particles may already have moved since the
+   reference positions (|x_i - x0_i| exactly, the rank's largest for j).
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::pairs_scan(int i, bool full, double D2, double D)
+{
+  NeighList *list = pair_->list;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  const bool i_on = eligible(i);
+  const double xi = x[i][0], yi = x[i][1], zi = x[i][2], ri = radius[i];
+  const int *jlist = list->firstneigh[i];
+  const int jnum = list->numneigh[i];
+  double B = 1e300;
+
+  for (int jj = 0; jj < jnum; jj++) {
+    const int j = jlist[jj] & NEIGHMASK;
+    const bool j_on = j < nlocal && eligible(j);
+    if (!i_on && !j_on) continue;
+    const double dx = xi - x[j][0], dy = yi - x[j][1], dz = zi - x[j][2];
+    const double radsum = ri + radius[j];
+    const double rsq = dx * dx + dy * dy + dz * dz;
+    const double rirj = ri * radius[j];
+    const double coef = overlap_coef(type[i], type[j]);
+    if (margin_skip_) {
+      // pairs not yet in contact (delta < 0) count with their gap: rattlers
+      // and loose neighbours then do not force their lists to be rescanned
       const double delta = radsum - sqrt(rsq);
-      const double R_star = effective_radius(ri, radius[j]);
-      const double Es = E_star(type[i], type[j]);
-      if (i_hit) consider(i, delta, R_star, Es, PARTNER_PARTICLE);
-      if (j_hit) consider(j, delta, R_star, Es, PARTNER_PARTICLE);
+      if (i_on) B = std::min(B, pair_limit_margin(delta, radsum, rirj, crush_[i][0], coef));
+      if (j_on) B = std::min(B, pair_limit_margin(delta, radsum, rirj, crush_[j][0], coef));
     }
+    if (rsq >= radsum * radsum) continue;
+    // multiply-only limit test; the exact overlap and R* only for the few
+    // contacts that pass it
+    const bool i_hit = i_on && pair_limit_reached(rsq, radsum, rirj, crush_[i][0], coef);
+    const bool j_hit = j_on && pair_limit_reached(rsq, radsum, rirj, crush_[j][0], coef);
+    if (!i_hit && !j_hit) continue;
+    const double delta = radsum - sqrt(rsq);
+    const double R_star = effective_radius(ri, radius[j]);
+    const double Es = E_star(type[i], type[j]);
+    if (i_hit) consider(i, delta, R_star, Es, PARTNER_PARTICLE);
+    if (j_hit) consider(j, delta, R_star, Es, PARTNER_PARTICLE);
+  }
+  if (margin_skip_) {
+    // positions moved since x0 by at most sqrt(d2_i) (i) and D (any j); the
+    // margin must cover that too
+    margin_[i] = full ? B : B - sqrt(d2_[i]) - D;
   }
 }
 
@@ -720,7 +792,7 @@ void FixCrushParticle::write_events(const std::vector<double> &local_records, in
 void FixCrushParticle::compute_globals()
 {
   if (cache_step_ == update->ntimestep) return;
-  double local[2] = {0.0, 0.0}, global[2];
+  double local[4] = {0.0, 0.0, lists_scanned_, lists_total_}, global[4];
   double rmin_local = 1e300, rmin_all;
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
@@ -729,7 +801,7 @@ void FixCrushParticle::compute_globals()
     local[1] += breakage_integral_term(atom->rmass[i], 2.0 * atom->radius[i], d_min_, d_max_);
     rmin_local = std::min(rmin_local, atom->radius[i]);
   }
-  MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(local, global, 4, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&rmin_local, &rmin_all, 1, MPI_DOUBLE, MPI_MIN, world);
   const double M = global[0] + fines_mass_;
   const double I = (M > 0.0) ? (global[1] + fines_mass_ * log(d_max_ / d_min_)) / M : 0.0;
@@ -739,6 +811,7 @@ void FixCrushParticle::compute_globals()
   cache_[3] = global[0];
   cache_[4] = breakage_index(I, integral0_, fractal_grading_integral(d_min_, d_max_, omega_));
   cache_[5] = (rmin_all < 1e299) ? rmin_all : 0.0;
+  cache_[6] = (global[3] > 0.0) ? global[2] / global[3] : 0.0;
   cache_step_ = update->ntimestep;
 }
 

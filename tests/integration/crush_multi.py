@@ -171,7 +171,7 @@ def compression_scene(workdir, nx, ny, height, dmin, dmax, nsteps, speed=2.0,
 
     The time step is dt_frac (default 0.18) of the Rayleigh time of the
     smallest particle that can occur (SPEC section 5).  The deck prints
-    thermo step atoms f_top[3] f_crush[1..6] every `thermo` steps with full
+    thermo step atoms f_top[3] f_crush[1..7] every `thermo` steps with full
     precision, writes the events to events.txt and, with dump_every > 0,
     `dump.*.txt` files (id type x y z radius mass f_crush[1] f_crush[2]).
     `extra` is appended to the fix crush/particle line (e.g. ' d_frag_min 2e-4').
@@ -224,7 +224,7 @@ fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes to
 fix mv all move/mesh mesh top linear 0. 0. {-speed!r}
 fix integ all nve
 fix crush all crush/particle sigma_lim0 {sigma_lim0!r} m {m!r} d0 {d0!r} scale 1 var {var!r} d_comm {d_comm!r} seed {SEED_FIX} events events.txt{extra}
-thermo_style    custom step atoms f_top[3] f_crush[1] f_crush[2] f_crush[3] f_crush[4] f_crush[5] f_crush[6]
+thermo_style    custom step atoms f_top[3] f_crush[1] f_crush[2] f_crush[3] f_crush[4] f_crush[5] f_crush[6] f_crush[7]
 thermo_modify   format float %.17g lost {lost} norm no
 thermo          {thermo}
 {dump}run             {nsteps}

@@ -442,7 +442,9 @@ TEST(BreakageKernel, PairLimitReachedMatchesOverlapTest)
     const bool direct = (radsum - std::sqrt(rsq)) >= dlim;
     const bool fast = pair_limit_reached(rsq, radsum, rp * rq, sigma,
                                          limit_overlap_coefficient(E));
-    if (std::fabs(delta - dlim) > 1e-9 * dlim) EXPECT_EQ(direct, fast) << k;
+    if (std::fabs(delta - dlim) > 1e-9 * dlim) {
+      EXPECT_EQ(direct, fast) << k;
+    }
     (direct ? n_true : n_false)++;
   }
   EXPECT_GT(n_true, 10000);
@@ -452,4 +454,40 @@ TEST(BreakageKernel, PairLimitReachedMatchesOverlapTest)
   // exact hand case: r = 1, 1 (R* = 1/2), sigma = 1, c = 0.04 -> dlim = 0.02
   EXPECT_TRUE(pair_limit_reached(1.97 * 1.97, 2.0, 1.0, 1.0, 0.04));
   EXPECT_FALSE(pair_limit_reached(1.99 * 1.99, 2.0, 1.0, 1.0, 0.04));
+}
+
+// The margin is the overlap still missing: adding it to the overlap reaches
+// the limit overlap of SPEC exactly.
+TEST(BreakageKernel, PairLimitMarginReachesLimitOverlap)
+{
+  const double rp = 1.2e-3, rq = 0.7e-3, sigma = 3e8, E = 2.4e10;
+  const double c = limit_overlap_coefficient(E);
+  const double dlim = limit_overlap(sigma, effective_radius(rp, rq), E);
+  for (double delta : {0.0, 0.3 * dlim, dlim, 1.7 * dlim}) {
+    const double m = pair_limit_margin(delta, rp + rq, rp * rq, sigma, c);
+    EXPECT_NEAR(delta + m, dlim, 1e-12 * dlim);
+  }
+}
+
+// margin_holds must never claim a + b < B when it is not (it may be
+// conservative), and must accept clearly safe cases.
+TEST(BreakageKernel, MarginHoldsIsConservative)
+{
+  uint64_t state = 777;
+  auto uni = [&state]() {
+    state = splitmix64(state);
+    return (state >> 11) * (1.0 / 9007199254740992.0);
+  };
+  int accepted = 0;
+  for (int k = 0; k < 100000; k++) {
+    const double a = uni(), b = uni(), B = 3.0 * uni() - 0.5;
+    if (margin_holds(a * a, b * b, B)) {
+      EXPECT_LT(a + b, B);
+      accepted++;
+    }
+  }
+  EXPECT_GT(accepted, 10000);
+  EXPECT_TRUE(margin_holds(0.0, 0.01, 1.0));
+  EXPECT_FALSE(margin_holds(0.0, 0.0, 0.0));
+  EXPECT_FALSE(margin_holds(0.0, 0.0, -1.0));
 }
