@@ -73,7 +73,7 @@ SHAFT_LENGTH = 0.06
 
 V, S, VU, T_PAUSE, ZERO_TOL = 0.5, 0.001, 0.1, 2e-4, 0.05
 DEPTH = 3 * S
-RUN_STEPS = 4500
+RUN_STEPS = 6000
 
 
 def header(data_file):
