@@ -19,8 +19,11 @@ a. the files are those of the events in the jack time series: one per push
    time, old/new trigger value and counter agree with the series; f_ID
    counts them;
 b. particles at a snapshot step equal a `dump custom` (17 digits) written at
-   the same step; per-atom values: an atom-style variable (2 z) and
-   compute ke/atom (1/2 m v^2 from the snapshot's own v and radius);
+   the same step; per-atom values: an atom-style variable (2 z), compute
+   ke/atom (1/2 m v^2 from the snapshot's own v and radius), a fix per-atom
+   array (store/state of v, whole and one column), compute stress/atom pair
+   (its virial tally is needed on the snapshot step) against
+   -1/2 sum (x_i - x_j) (x) F over the snapshot's pair contacts;
 c. particle-particle contacts equal a `dump local` of the compute at that
    step, and they are exactly the overlapping pairs of the snapshot's
    positions and radii; overlap = r_i + r_j - |x_i - x_j|; the normal force is
@@ -151,8 +154,10 @@ fix             mv_shaft all move/mesh mesh shaft linear/variable v_zero v_zero 
 variable        phase equal f_jack[6]
 variable        zz atom 2*z
 compute         ke all ke/atom
+compute         sa all stress/atom pair
+fix             ss all store/state 1 vx vy vz
 fix             snap all snapshot/hdf5 file snap trigger f_jack[6] leaving 0 2 {snap_contacts} &
-                values v_zz c_ke
+                values v_zz c_ke c_sa f_ss f_ss[3]
 fix             snapall all snapshot/hdf5 file all trigger f_jack[6]
 fix             snapv all snapshot/hdf5 file pend trigger v_phase leaving 2
 {dumps}
@@ -311,6 +316,10 @@ def test_particles_equal_dump_custom(runs):
         mass = RHO * 4.0 / 3.0 * math.pi * p["radius"] ** 3
         np.testing.assert_allclose(vals["c_ke"], 0.5 * mass * np.sum(p["v"] ** 2, axis=1),
                                    rtol=1e-12, atol=1e-300)
+        # a per-atom array of a fix (whole, and one column): v stored this step
+        assert vals["f_ss"].shape == (len(p["id"]), 3)
+        assert np.array_equal(vals["f_ss"], p["v"])
+        assert np.array_equal(vals["f_ss[3]"], p["v"][:, 2])
 
 
 # ---------------------------------------------------------------------------
@@ -369,6 +378,29 @@ def test_pair_contacts(runs):
         assert np.all(np.abs(np.sum(ft * n, axis=1)) <= 1e-9 * fn_hertz.max())
         assert np.all(np.linalg.norm(ft, axis=1) <= MU_GRAIN * fn_hertz * (1 + 1e-6) + 1e-12)
     assert total > 0
+
+
+def test_stress_atom_tallied_at_snapshot_steps(runs):
+    # compute stress/atom pair needs the per-atom virial of the step: the fix
+    # asks for it on every step. Its value is -1/2 sum_c (x_i - x_j) (x) F_i
+    # over the pair contacts of i (stress x volume), here from the snapshot's
+    # own contact table
+    wd, res = runs[1]
+    for step, path in list_snapshots(wd / "snap"):
+        snap = read_snapshot(path)
+        p, pp = snap["particles"], snap["contacts"]["pp"]
+        sa = p["values"]["c_sa"]
+        assert sa.shape == (len(p["id"]), 6)
+        i = np.searchsorted(p["id"], pp["id"][:, 0])
+        j = np.searchsorted(p["id"], pp["id"][:, 1])
+        dx = p["x"][i] - p["x"][j]
+        w = dx[:, :, None] * pp["force"][:, None, :]        # same for i and j
+        exp = np.zeros((len(p["id"]), 3, 3))
+        np.add.at(exp, i, -0.5 * w)
+        np.add.at(exp, j, -0.5 * w)
+        voigt = np.stack([exp[:, 0, 0], exp[:, 1, 1], exp[:, 2, 2], exp[:, 0, 1],
+                          exp[:, 0, 2], exp[:, 1, 2]], axis=1)
+        np.testing.assert_allclose(sa, voigt, rtol=1e-6, atol=1e-9 * np.abs(voigt).max())
 
 
 # ---------------------------------------------------------------------------
