@@ -742,6 +742,7 @@ void FixSnapshotHdf5::gather_contacts(ComputePairGranLocal *c, bool wall, int &n
 
 void FixSnapshotHdf5::write_snapshot(double old_value, double new_value)
 {
+  const double t0 = MPI_Wtime();
   const int nlocal = atom->nlocal;
   const int *mask = atom->mask;
   const bigint step = update->ntimestep;
@@ -896,4 +897,14 @@ void FixSnapshotHdf5::write_snapshot(double old_value, double new_value)
   if (ok == 2)
     error->all(FLERR, ("fix snapshot/hdf5: writing '" + path + "' failed (HDF5 error above; "
                        "disk full?)").c_str());
+  if (comm->me == 0) {
+    char line[512];
+    snprintf(line, sizeof(line),
+             "fix snapshot/hdf5 %s: step " BIGINT_FORMAT ", %s %.10g -> %.10g: wrote %s "
+             "(%d particles, %d pair and %d wall contacts, %.3g s)\n",
+             id, step, trigger_.text.c_str(), old_value, new_value, path.c_str(), np, npp, npw,
+             MPI_Wtime() - t0);
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
 }
