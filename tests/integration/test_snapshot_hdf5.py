@@ -33,7 +33,10 @@ c. particle-particle contacts equal a `dump local` of the compute at that
 d. particle-mesh contacts balance the pile forces of fix jack/pile (cone and
    shaft, from fix mesh/surface/stress);
 e. 1-rank and 2-rank snapshots agree (ids, positions, contacts);
-f. bad input stops with an error naming the keyword and its allowed values.
+f. bad input stops with an error naming the keyword and its allowed values;
+   a fix with contacts after the first run is refused with the way out;
+g. a snapshot without contacts has empty tables with their row shapes, and
+   'unfix' of a fix with its own contact computes lets later runs go on.
 """
 
 import math
@@ -525,6 +528,9 @@ BAD = [
      "compute pgl all pair/gran/local pos id force force_normal delta contactPoint",
      "the deck already has compute pair/gran/local 'pgl' and LIGGGHTS allows only one; "
      "pass it with keyword 'pair_local pgl'"),
+    ("contacts_after_first_run", GOOD + " contacts yes", "run 1",
+     "'contacts yes' creates a compute pair/gran/local, which LIGGGHTS allows only before the "
+     "first run"),
     ("no_folder", "file nofolder/s trigger v_s", "",
      "cannot create file 'nofolder/s_3.h5'"),
 ]
@@ -560,3 +566,34 @@ def test_bad_input(error_runs, name, args, before, expected):
     if isinstance(res, Exception):
         raise res
     assert any(expected in e and "fix snapshot/hdf5" in e for e in res.errors), res.errors
+
+
+def test_no_contacts_and_unfix(tmp_path):
+    # one free grain far from everything (LIGGGHTS needs an atom type in use
+    # for a second run): the contact tables are empty, with their row
+    # shapes; 'unfix' unregisters the fix's contact computes from the pair
+    # style and the wall fix, and later runs go on
+    write_pile_stl(str(tmp_path), 0.004, 0.05, tip_z=0.1, n_seg=8)
+    one_grain = ("create_atoms 1 single 0.015 0.015 0.19 units box\n"
+                 "set atom 1 diameter 0.001 density 2600")
+    deck = ERROR_DECK.format(inputs=INPUTS, before=one_grain, after="", args=(
+        "file s trigger v_s contacts yes")).replace("run             5\n", """\
+run             5
+unfix           snap
+run             5
+fix             again all snapshot/hdf5 file t trigger v_s leaving 0
+run             5
+print           "ALL DONE"
+""")
+    res = harness.run_deck(deck, tmp_path, timeout=120, check=True)
+    assert "ALL DONE" in res.log
+    assert [s for s, _ in list_snapshots(tmp_path / "s")] == [3]
+    assert list_snapshots(tmp_path / "t") == []        # s stays 1 after step 3
+    snap = read_snapshot(tmp_path / "s_3.h5")
+    assert snap["particles"]["id"].tolist() == [1]
+    np.testing.assert_array_equal(snap["particles"]["x"], [[0.015, 0.015, 0.19]])
+    assert snap["particles"]["radius"].tolist() == [0.0005]
+    assert snap["contacts"]["pp"]["id"].shape == (0, 2)
+    assert snap["contacts"]["pw"]["force"].shape == (0, 3)
+    assert snap["contacts"]["pw"]["meshes"] == ["cone", "shaft"]
+    assert (snap["trigger_old"], snap["trigger_new"]) == (0.0, 1.0)
