@@ -285,10 +285,14 @@ void FixSnapshotHdf5::parse_args(int narg, char **arg)
       iarg += 2;
     } else {  // values: one or more per-atom references, up to the next keyword
       iarg++;
+      const size_t before = values_.size();
       while (iarg < narg && !is_keyword(arg[iarg])) {
         values_.push_back(parse_ref("values", arg[iarg], true));
         iarg++;
       }
+      if (values_.size() == before)
+        error->all(FLERR, "fix snapshot/hdf5: keyword 'values' needs at least one per-atom "
+                          "quantity (c_ID, c_ID[n], f_ID, f_ID[n] or v_name)");
     }
   }
 

@@ -516,6 +516,8 @@ BAD = [
      "keyword 'values': fix 'jack' computes no per-atom values"),
     ("values_column", GOOD + " values c_ke[2]", "compute ke all ke/atom",
      "'c_ke[2]': compute 'ke' has a per-atom vector; write it without [n]"),
+    ("values_empty", GOOD + " values contacts no", "",
+     "keyword 'values' needs at least one per-atom quantity"),
     ("values_twice", GOOD + " values v_s2 v_s2", "", "keyword 'values' names 'v_s2' twice"),
     ("pair_local_without_contacts", GOOD + " pair_local pgl", "",
      "keywords 'pair_local' and 'wall_local' need 'contacts yes'"),
