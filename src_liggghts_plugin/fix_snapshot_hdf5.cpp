@@ -332,6 +332,9 @@ void FixSnapshotHdf5::post_create()
 {
   if (!contacts_) return;
   const std::string group_name = group->names[igroup];
+  // the condition under which LIGGGHTS' compute pair/gran/local refuses to
+  // be created (after read_restart it is allowed until the first run)
+  const bool after_first_run = update->ntimestep > 0 && !modify->fix_restart_in_progress();
 
   if (pair_local_id_.empty()) {
     if (!force->pair || !force->pair_match("gran", 0))
@@ -343,7 +346,7 @@ void FixSnapshotHdf5::post_create()
                            str(modify->compute[i]->id) + "' and LIGGGHTS allows only one; pass "
                            "it with keyword 'pair_local " + str(modify->compute[i]->id) +
                            "'").c_str());
-    if (update->ntimestep > 0)
+    if (after_first_run)
       error->all(FLERR, "fix snapshot/hdf5: 'contacts yes' creates a compute pair/gran/local, "
                         "which LIGGGHTS allows only before the first run; define this fix "
                         "before the first run, or define 'compute CID all pair/gran/local pos "
@@ -371,7 +374,7 @@ void FixSnapshotHdf5::post_create()
         deck_has_one = true;
       }
     if (mesh_wall && !deck_has_one) {
-      if (update->ntimestep > 0)
+      if (after_first_run)
         error->all(FLERR, "fix snapshot/hdf5: 'contacts yes' with mesh walls creates a compute "
                           "wall/gran/local, which LIGGGHTS allows only before the first run; "
                           "define this fix before the first run, or pass 'wall_local CID'");

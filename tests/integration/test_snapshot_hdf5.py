@@ -36,7 +36,8 @@ e. 1-rank and 2-rank snapshots agree (ids, positions, contacts);
 f. bad input stops with an error naming the keyword and its allowed values;
    a fix with contacts after the first run is refused with the way out;
 g. a snapshot without contacts has empty tables with their row shapes, and
-   'unfix' of a fix with its own contact computes lets later runs go on.
+   'unfix' of a fix with its own contact computes lets later runs go on; a
+   deck continued with read_restart can still create the contact computes.
 """
 
 import math
@@ -599,3 +600,54 @@ print           "ALL DONE"
     assert snap["contacts"]["pw"]["force"].shape == (0, 3)
     assert snap["contacts"]["pw"]["meshes"] == ["cone", "shaft"]
     assert (snap["trigger_old"], snap["trigger_new"]) == (0.0, 1.0)
+
+
+RESTART_A = """\
+variable        inputs index {inputs}
+include         ${{inputs}}/base.in
+boundary        f f f
+region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
+create_box      3 box
+create_atoms    1 single 0.015 0.015 0.19 units box
+set             atom 1 diameter 0.001 density 2600
+include         ${{inputs}}/materials_ne34.in
+neighbor        0.002 bin
+timestep        1e-5
+{walls}
+fix             integ all nve
+run             5
+write_restart   r.restart
+"""
+
+RESTART_B = """\
+variable        inputs index {inputs}
+include         ${{inputs}}/base.in
+read_restart    r.restart
+include         ${{inputs}}/materials_ne34.in
+neighbor        0.002 bin
+{walls}
+fix             integ all nve
+variable        s equal step>=8
+fix             snap all snapshot/hdf5 file s trigger v_s contacts yes
+run             5
+"""
+
+WALLS = """\
+fix             cone all mesh/surface/stress file cone.stl type 2
+fix             shaft all mesh/surface/stress file shaft.stl type 2
+fix             pile all wall/gran model hertz tangential history mesh n_meshes 2 meshes cone shaft
+"""
+
+
+def test_contacts_after_read_restart(tmp_path):
+    # a deck continued from a restart file may create the contact computes
+    # before its first run (LIGGGHTS' own rule, which the fix follows)
+    write_pile_stl(str(tmp_path), 0.004, 0.05, tip_z=0.1, n_seg=8)
+    harness.run_deck(RESTART_A.format(inputs=INPUTS, walls=WALLS), tmp_path, timeout=60,
+                     check=True)
+    harness.run_deck(RESTART_B.format(inputs=INPUTS, walls=WALLS), tmp_path, timeout=60,
+                     check=True)
+    assert [s for s, _ in list_snapshots(tmp_path / "s")] == [8]
+    snap = read_snapshot(tmp_path / "s_8.h5")
+    assert snap["step"] == 8 and snap["particles"]["id"].tolist() == [1]
+    assert snap["contacts"]["pw"]["meshes"] == ["cone", "shaft"]
