@@ -8,6 +8,7 @@ Pure functions on numpy arrays; see each module for units and conventions.
   particle / measurement-sphere stresses, ring volume averages.
 * :mod:`crushpost.thermo` - thermo blocks of LIGGGHTS/LAMMPS logs.
 * :mod:`crushpost.dump` - text dumps and the crush event log.
+* :mod:`crushpost.snapshot` - HDF5 snapshots of ``fix snapshot/hdf5`` (h5py).
 * :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo}``.
 """
 
@@ -15,6 +16,8 @@ from .breakage import (W_FRACTAL, Breakage, breakage, breakage_index,
                        fractal_grading_integral, fractal_psd, grading_integral,
                        psd_curve, sphere_mass)
 from .dump import CRUSH_LOG_COLUMNS, iter_dump, read_crush_log, read_dump
+from .snapshot import (list_snapshots, read_snapshot, read_snapshots,
+                       snapshot_particle_stress)
 from .stress import (Invariants, cylindrical_basis, invariants, pair_contact_terms,
                      particle_stress, ring_average, ring_averages, sphere_ring_volume,
                      sphere_stress, to_cylindrical, to_cylindrical_tensor)
@@ -25,6 +28,7 @@ __all__ = [
     "W_FRACTAL", "Breakage", "breakage", "breakage_index", "fractal_grading_integral",
     "fractal_psd", "grading_integral", "psd_curve", "sphere_mass",
     "CRUSH_LOG_COLUMNS", "iter_dump", "read_crush_log", "read_dump",
+    "list_snapshots", "read_snapshot", "read_snapshots", "snapshot_particle_stress",
     "Invariants", "cylindrical_basis", "invariants", "pair_contact_terms",
     "particle_stress", "ring_average", "ring_averages", "sphere_ring_volume",
     "sphere_stress", "to_cylindrical", "to_cylindrical_tensor",
