@@ -130,6 +130,13 @@ def plate_stresses(walls, half_width):
     return out
 
 
+def boundary_tensor(walls):
+    """(1/V_box) sum over the plate contacts of F (x) x_c (contact point x_c,
+    force on the grain), compression positive: the mean stress the plates
+    impose, off-diagonal terms included (force moments on the plates)."""
+    return sphere_stress(walls[:, 0:3], walls[:, 6:9], L ** 3)
+
+
 def love_whole_sample(pairs, walls):
     """(1/V_box) sum over every contact of F (x) L, compression positive."""
     xi, xj, f = pairs[:, 0:3], pairs[:, 3:6], pairs[:, 6:9]
@@ -148,14 +155,16 @@ def test_sphere_reads_boundary_stress(tmp_path, nprocs):
     res = run_deck(deck, tmp_path, nprocs=nprocs, timeout=900, check=True)
     steps, sigma = read_sphere_series(tmp_path / "spheres.txt", 1)
     assert len(steps) == 9
-    full, core, love = [], [], []
+    full, core, love, bnd = [], [], [], []
     for s in steps:
         walls = read_local(tmp_path / ("walls.%d.txt" % s), 9)
         pairs = read_local(tmp_path / ("pairs.%d.txt" % s), 9)
-        full.append(plate_stresses(walls, L))
+        full.append(plate_stresses(walls, L / 2))
         core.append(plate_stresses(walls, CORE))
         love.append(love_whole_sample(pairs, walls))
-    full, core, love = np.mean(full, 0), np.mean(core, 0), np.mean(love, 0)
+        bnd.append(boundary_tensor(walls))
+    full, core = np.mean(full, 0), np.mean(core, 0)
+    love, bnd = np.mean(love, 0), np.mean(bnd, 0)
     s = sigma[:, 0].mean(axis=0)
 
     # the packing carries a real isotropic stress
@@ -165,19 +174,27 @@ def test_sphere_reads_boundary_stress(tmp_path, nprocs):
     th = res.thermo[-1]
     mesh = np.array([th["sx"][1:], th["sy"][1:], th["sz"][1:]]).mean(axis=1)
     assert np.allclose(mesh, np.mean([plate_stresses(read_local(
-        tmp_path / ("walls.%d.txt" % st), 9), L) for st in steps[1:]], 0), rtol=1e-3), mesh
-    # bookkeeping: the whole-sample Love average is the plate stress
-    assert np.allclose(np.diag(love), full, rtol=0.03), (love, full)
-    assert np.abs(love - love.T).max() < 0.03 * full.mean()
+        tmp_path / ("walls.%d.txt" % st), 9), L / 2) for st in steps[1:]], 0), rtol=1e-3), mesh
+    # bookkeeping: the whole-sample Love average is the plate stress, every
+    # component (they differ by sum_p x_p (x) F_p, zero when each grain's
+    # contact forces balance)
+    assert np.allclose(np.diag(bnd), full, rtol=1e-9)
+    assert np.abs(love - bnd).max() < 0.03 * full.mean(), (love, bnd)
 
     # the sphere reads the stress the core carries to the plates: mean within 10 %
     p_sphere, p_core = np.trace(s) / 3.0, core.mean()
     assert abs(p_sphere - p_core) / p_core < 0.10, (s, core, full)
-    # single normal components within 15 %: this small sample carries a shear
-    # stress of about 0.12 p in the core (|sigma_xy| below), so components of
-    # one grain arrangement differ from each other by that much; the two
-    # estimates sample that anisotropic field differently (volume vs. patch)
+    # each normal component within 10 % as well (measured: 4 %). The core of
+    # this one small sample carries a shear stress of about 0.13 p (sigma_xy
+    # below, with frictionless plates: the plates take it as force moments), so
+    # its stress is not isotropic at the 10 % level and the sphere (a volume
+    # average) and the patches (an average over the plates' central areas) see
+    # that field in different places; 10 % is the issue's target and leaves a
+    # margin of 2.5 over the measured difference.
     for k in range(3):
-        assert abs(s[k, k] - core[k]) / core[k] < 0.15, (k, s, core)
+        assert abs(s[k, k] - core[k]) / core[k] < 0.10, (k, s, core)
     shear = max(abs(s[0, 1]), abs(s[0, 2]), abs(s[1, 2]))
     assert shear < 0.2 * p_core
+    # the stress the whole plates carry is below the core's (wall fringe): the
+    # reason the comparison is made with the core patches
+    assert full.mean() < core.mean()
