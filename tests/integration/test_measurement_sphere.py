@@ -178,7 +178,7 @@ def test_sphere_reads_boundary_stress(tmp_path, nprocs):
     # bookkeeping: the whole-sample Love average is the plate stress, every
     # component (they differ by sum_p x_p (x) F_p, zero when each grain's
     # contact forces balance)
-    assert np.allclose(np.diag(bnd), full, rtol=1e-9)
+    assert np.allclose(np.diag(bnd), full, rtol=1e-4)  # dump local writes 6 digits
     assert np.abs(love - bnd).max() < 0.03 * full.mean(), (love, bnd)
 
     # the sphere reads the stress the core carries to the plates: mean within 10 %
