@@ -17,9 +17,9 @@ has the numbers behind each choice):
   forces, measured within 1 %).
 * The grains within about two diameters of a plate carry less stress than the
   core (wall effect: looser, layered packing; measured 40 % less in the first
-  0.7 d, 20 % less in the next 0.7 d) and that fringe is a large part of a
-  sample 14 grains wide, so the mean plate stress is 16-18 % below the stress
-  of the homogeneous core. The boundary stress the sphere must read is the one
+  0.7 d, 17 % less in the next 0.7 d) and that fringe is a large part of a
+  sample 14 grains wide, so the core carries 17-19 % more than the mean plate
+  stress (two seeds). The boundary stress the sphere must read is the one
   the core transmits to the plates: the force on the central patch of each
   plate (contact points farther than 0.15 L, about two diameters, from the
   other plates) over the patch area. The sphere (radius 0.35 L) stays the
