@@ -9,7 +9,8 @@ Pure functions on numpy arrays; see each module for units and conventions.
 * :mod:`crushpost.thermo` - thermo blocks of LIGGGHTS/LAMMPS logs.
 * :mod:`crushpost.dump` - text dumps and the crush event log.
 * :mod:`crushpost.snapshot` - HDF5 snapshots of ``fix snapshot/hdf5`` (h5py).
-* :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo}``.
+* :mod:`crushpost.spheres` - measurement-sphere deck blocks and their output.
+* :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres}``.
 """
 
 from .breakage import (W_FRACTAL, Breakage, breakage, breakage_index,

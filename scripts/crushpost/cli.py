@@ -1,4 +1,4 @@
-"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile} ...``."""
+"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres} ...``."""
 
 import argparse
 import json
@@ -9,6 +9,7 @@ import numpy as np
 from .breakage import W_FRACTAL, breakage, sphere_mass
 from .dump import read_dump
 from .meshes import write_pile_stl
+from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
 from .trend import fit_qc_trend
 
@@ -88,8 +89,31 @@ def _cmd_pile(args):
     return 0
 
 
+def _cmd_spheres(args):
+    centres = [list(c) for c in (args.centre or [])]
+    if args.centres_file:
+        centres += np.loadtxt(args.centres_file, comments="#", ndmin=2).tolist()
+    if args.r_over_R or args.depth:
+        if not (args.r_over_R and args.depth and args.pile_radius is not None
+                and args.z_top is not None):
+            raise ValueError("a grid needs --r-over-R, --depth, --pile-radius and --z-top")
+        centres += chamber_sphere_centres(args.r_over_R, args.depth, args.pile_radius,
+                                          args.z_top, azimuth_deg=args.azimuth).tolist()
+    if not centres:
+        raise ValueError("no sphere: give --centre, --centres-file or a --r-over-R/--depth grid")
+    if not args.radius > 0.0:
+        raise ValueError("--radius must be positive")
+    if any(np.shape(c) != (3,) for c in centres):
+        raise ValueError("every centre needs three coordinates")
+    write_sphere_block(args.out, centres, args.radius, args.every, args.file,
+                       group=args.group, prefix=args.prefix)
+    print(json.dumps({"block": args.out, "output": args.file, "n_spheres": len(centres),
+                      "radius": args.radius, "every": args.every, "centres": centres}))
+    return 0
+
+
 def build_parser():
-    """The argparse parser with the ``br``, ``fit-qc``, ``thermo`` and ``pile`` subcommands."""
+    """The argparse parser with the ``br``, ``fit-qc``, ``thermo``, ``pile`` and ``spheres`` subcommands."""
     ap = argparse.ArgumentParser(prog="crushpost",
                                  description="Post-processing of crushable-sand DEM runs.")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -143,6 +167,28 @@ def build_parser():
     pl.add_argument("--shaft-name", default="shaft.stl",
                     help="file name of the shaft (shaft.stl)")
     pl.set_defaults(func=_cmd_pile)
+
+    sp = sub.add_parser("spheres", help="deck block (stock LIGGGHTS commands) for measurement "
+                        "spheres; `include` it after the walls; prints JSON")
+    sp.add_argument("--radius", type=float, required=True, help="sphere radius [m]")
+    sp.add_argument("--centre", type=float, nargs=3, action="append", metavar=("X", "Y", "Z"),
+                    help="a sphere centre [m] (repeat for more spheres)")
+    sp.add_argument("--centres-file", help="text file with one centre x y z per line")
+    sp.add_argument("--r-over-R", type=float, nargs="+",
+                    help="grid: distances from the pile axis in pile radii, e.g. 2 3 5 8")
+    sp.add_argument("--depth", type=float, nargs="+",
+                    help="grid: depths below --z-top [m], e.g. 0.2 0.5 0.8")
+    sp.add_argument("--pile-radius", type=float, help="grid: pile radius R [m]")
+    sp.add_argument("--z-top", type=float, help="grid: z of the sample top [m]")
+    sp.add_argument("--azimuth", type=float, default=0.0,
+                    help="grid: direction of the radii from +x [deg] (default 0)")
+    sp.add_argument("--every", type=int, default=1000, help="output interval [steps] (default 1000)")
+    sp.add_argument("--file", default="spheres.txt",
+                    help="file the deck writes the stresses to (default spheres.txt)")
+    sp.add_argument("--group", default="all", help="group of the grains (default all)")
+    sp.add_argument("--prefix", default="ms", help="prefix of the IDs it defines (default ms)")
+    sp.add_argument("--out", required=True, help="block file to write (e.g. spheres.in)")
+    sp.set_defaults(func=_cmd_spheres)
     return ap
 
 

@@ -10,7 +10,10 @@ compression negative; the block outputs compression positive.
 
 `measurement_sphere_block` writes the regions, computes and a `fix ave/time`
 that appends one line per output step to a text file: step, then for each
-sphere the six components xx yy zz xy xz yz (Pa). `read_sphere_series` reads it.
+sphere the six components xx yy zz xy xz yz (Pa). `write_sphere_block` writes
+it to a file a deck can `include`; `chamber_sphere_centres` places spheres at
+radii r/R and depths below the sample top (SPEC 4.6); `read_sphere_series`
+reads the output. Command line: ``python3 -m crushpost spheres --help``.
 """
 
 import numpy as np
@@ -38,6 +41,27 @@ def measurement_sphere_block(centres, radius, every, filename, group="all", pref
     lines.append("fix %s_out all ave/time %d 1 %d %s file %s"
                  % (prefix, every, every, " ".join(values), filename))
     return "\n".join(lines) + "\n"
+
+
+def write_sphere_block(path, centres, radius, every, filename, group="all", prefix="ms"):
+    """Write :func:`measurement_sphere_block` to ``path`` (a file to ``include``); returns the text."""
+    text = measurement_sphere_block(centres, radius, every, filename, group=group, prefix=prefix)
+    with open(path, "w") as fh:
+        fh.write(text)
+    return text
+
+
+def chamber_sphere_centres(r_over_R, depths, pile_radius, z_top, axis_xy=(0.0, 0.0), azimuth_deg=0.0):
+    """Centres (n, 3) of spheres at every radius r = r_over_R * pile_radius from
+    the pile axis (along the azimuth ``azimuth_deg`` from +x) and every depth
+    below ``z_top`` (the sample top), radii varying fastest."""
+    phi = np.radians(azimuth_deg)
+    out = []
+    for depth in np.atleast_1d(np.asarray(depths, dtype=float)):
+        for q in np.atleast_1d(np.asarray(r_over_R, dtype=float)):
+            r = q * pile_radius
+            out.append((axis_xy[0] + r * np.cos(phi), axis_xy[1] + r * np.sin(phi), z_top - depth))
+    return np.array(out, dtype=float).reshape(-1, 3)
 
 
 def read_sphere_series(path, n_spheres):
