@@ -162,6 +162,12 @@ def test_dt_check_bad_value(tmp_path):
     assert any("'warn' or 'error'" in e and "maybe" in e for e in res.errors), res.errors
 
 
+@pytest.mark.parametrize("key", ["margin_skip", "events_append"])
+def test_yes_no_bad_value(tmp_path, key):
+    res = check_error(tmp_path, deck(args(extra=f"{key} maybe")), f"keyword '{key}'")
+    assert any("'yes' or 'no'" in e and "maybe" in e for e in res.errors), res.errors
+
+
 @pytest.mark.parametrize("value", ["0", "3.5"])
 def test_omega_out_of_range(tmp_path, value):
     check_error(tmp_path, deck(args(extra=f"br omega {value}")), "keyword 'omega' must be in (0, 3]")
