@@ -42,7 +42,7 @@ from harness import REPO  # noqa: E402
 
 sys.path.insert(0, str(REPO / "scripts"))
 from crushpost.meshes import write_pile_stl  # noqa: E402
-from crushpost.packing import ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+import pile_cell  # noqa: E402
 
 INPUTS = REPO / "inputs"
 PHASE_PUSH, PHASE_UNLOAD, PHASE_PAUSE, PHASE_DONE = 0, 1, 2, 3
@@ -55,9 +55,7 @@ SHAFT_LENGTH = 0.07
 
 def read_series(path):
     """The time series file of the fix as a dict of columns."""
-    data = np.loadtxt(path, comments="#", ndmin=2)
-    assert data.shape[1] == len(COLUMNS), data.shape
-    return {c: data[:, j] for j, c in enumerate(COLUMNS)}
+    return pile_cell.read_series(path, COLUMNS)
 
 
 def write_pile(workdir, tip_z):
@@ -246,58 +244,15 @@ def test_restart_continues_exactly(tmp_path):
 # b., c. grains settled under gravity, pile jacked in
 # ---------------------------------------------------------------------------
 
-N_SCALE = 39
 R_CELL = 0.035
 H_PACK = 0.045             # estimated settled height
-SOLID = 0.6
 H_RSA = 0.085
 DT_B = 2e-6
-G_GRAIN = 9e8              # 10x softer grains than NE34: larger time step, same physics
-G_ACC = 981.0              # 100 g (as in a centrifuge): quasi-static stresses in a tiny box
 SETTLE_STEPS = 30000
 
 
 def header_grains(data_file):
-    return f"""\
-variable        inputs index {INPUTS}
-variable        G_grain index {G_GRAIN!r}
-include         ${{inputs}}/base.in
-boundary        f f f
-read_data       {data_file}
-include         ${{inputs}}/materials_ne34.in
-neighbor        0.002 bin
-neigh_modify    delay 0
-timestep        {DT_B!r}
-fix             bottom all wall/gran model hertz tangential history primitive type 3 zplane 0.0
-fix             side all wall/gran model hertz tangential history primitive type 3 zcylinder {R_CELL!r} 0 0
-fix             grav all gravity {G_ACC!r} vector 0 0 -1
-"""
-
-
-SETTLE_DECK = header_grains("grains.data") + f"""\
-include         ${{inputs}}/integrate.in
-thermo_style    custom step atoms ke
-thermo          5000
-run             {SETTLE_STEPS}
-write_data      settled.data
-"""
-
-
-def data_atoms(path):
-    """Atoms section of a write_data file: id type diameter density x y z ..."""
-    rows = []
-    lines = Path(path).read_text().splitlines()
-    i = next(k for k, line in enumerate(lines) if line.startswith("Atoms")) + 1
-    for line in lines[i:]:
-        w = line.split()
-        if not w:
-            if rows:
-                break
-            continue
-        if not w[0].isdigit():
-            break
-        rows.append([float(x) for x in w[:7]])
-    return np.array(rows)
+    return pile_cell.header(data_file, R_CELL, DT_B)
 
 
 @pytest.fixture(scope="module")
@@ -306,19 +261,11 @@ def settled(tmp_path_factory):
     cylinder; returns (folder, number of grains, z of the highest grain top
     in the way of the pile)."""
     wd = tmp_path_factory.mktemp("settle")
-    rng = np.random.default_rng(20240611)
-    d = ne34_diameters(2000, N_SCALE, rng=rng)
-    vol = math.pi * R_CELL ** 2 * H_PACK * SOLID
-    n = int(np.searchsorted(np.cumsum(math.pi / 6 * d ** 3), vol))
-    d = d[:n]
-    pos = rsa_cylinder(d, R_CELL, 0.0, H_RSA, rng=rng)
-    L = 1.2 * R_CELL
-    write_lammps_data(wd / "grains.data", pos, d, 2600.0, (-L, L, -L, L, -0.005, 0.2), ntypes=3)
-    res = harness.run_deck(SETTLE_DECK, wd, timeout=300, check=True)
+    res, atoms = pile_cell.settle(wd, R_CELL, H_PACK, H_RSA, DT_B, SETTLE_STEPS, seed=20240611,
+                                  z_box_top=0.2)
+    n = len(atoms)
     ke = res.thermo[-1]["KinEng"]
     assert ke[-1] < 1e-3 * ke.max(), ke                # settled
-    atoms = data_atoms(wd / "settled.data")
-    assert len(atoms) == n
     # top of the grains in the pile's way (centres within R_PILE + r of the axis)
     r = 0.5 * atoms[:, 2]
     near = np.hypot(atoms[:, 4], atoms[:, 5]) < R_PILE + r

@@ -54,7 +54,8 @@ from harness import REPO  # noqa: E402
 
 sys.path.insert(0, str(REPO / "scripts"))
 from crushpost.meshes import write_pile_stl  # noqa: E402
-from crushpost.packing import ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+import pile_cell  # noqa: E402
+from pile_cell import G_GRAIN, RHO  # noqa: E402
 from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 
 INPUTS = REPO / "inputs"
@@ -62,17 +63,12 @@ JACK_COLUMNS = ["step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase",
                 "v_next"]
 PUSH, UNLOAD, PAUSE, DONE = 0, 1, 2, 3
 
-N_SCALE = 39
 R_CELL = 0.03
 H_PACK = 0.035
-SOLID = 0.6
 H_RSA = 0.075
 DT = 2e-6
-G_GRAIN = 9e8               # 10x softer than NE34 (as in test_jack_pile.py)
 NU_GRAIN, G_STEEL, NU_STEEL = 0.2, 85e9, 0.2
 MU_GRAIN, MU_PILE = 0.275, 0.5
-RHO = 2600.0
-G_ACC = 981.0
 SETTLE_STEPS = 15000
 R_PILE = 0.006
 N_SEG = 16
@@ -84,51 +80,11 @@ RUN_STEPS = 17000
 
 
 def header(data_file):
-    return f"""\
-variable        inputs index {INPUTS}
-variable        G_grain index {G_GRAIN!r}
-include         ${{inputs}}/base.in
-boundary        f f f
-read_data       {data_file}
-include         ${{inputs}}/materials_ne34.in
-neighbor        0.002 bin
-neigh_modify    delay 0
-timestep        {DT!r}
-fix             bottom all wall/gran model hertz tangential history primitive type 3 zplane 0.0
-fix             side all wall/gran model hertz tangential history primitive type 3 zcylinder {R_CELL!r} 0 0
-fix             grav all gravity {G_ACC!r} vector 0 0 -1
-"""
-
-
-SETTLE_DECK = header("grains.data") + f"""\
-include         ${{inputs}}/integrate.in
-thermo_style    custom step atoms ke
-thermo          5000
-run             {SETTLE_STEPS}
-write_data      settled.data
-"""
-
-
-def data_atoms(path):
-    """Atoms section of a write_data file: id type diameter density x y z."""
-    rows = []
-    lines = Path(path).read_text().splitlines()
-    i = next(k for k, line in enumerate(lines) if line.startswith("Atoms")) + 1
-    for line in lines[i:]:
-        w = line.split()
-        if not w:
-            if rows:
-                break
-            continue
-        if not w[0].isdigit():
-            break
-        rows.append([float(x) for x in w[:7]])
-    return np.array(rows)
+    return pile_cell.header(data_file, R_CELL, DT)
 
 
 def read_series(path):
-    data = np.loadtxt(path, comments="#", ndmin=2)
-    return {c: data[:, j] for j, c in enumerate(JACK_COLUMNS)}
+    return pile_cell.read_series(path, JACK_COLUMNS)
 
 
 # the deck's own contact computes (1 rank): LIGGGHTS allows one of each
@@ -204,17 +160,9 @@ def read_local_dump(path):
 @pytest.fixture(scope="module")
 def settled(tmp_path_factory):
     wd = tmp_path_factory.mktemp("settle")
-    rng = np.random.default_rng(20240613)
-    d = ne34_diameters(2000, N_SCALE, rng=rng)
-    vol = math.pi * R_CELL ** 2 * H_PACK * SOLID
-    n = int(np.searchsorted(np.cumsum(math.pi / 6 * d ** 3), vol))
-    d = d[:n]
-    pos = rsa_cylinder(d, R_CELL, 0.0, H_RSA, rng=rng)
-    L = 1.2 * R_CELL
-    write_lammps_data(wd / "grains.data", pos, d, RHO, (-L, L, -L, L, -0.005, 0.16), ntypes=3)
-    harness.run_deck(SETTLE_DECK, wd, timeout=300, check=True)
-    atoms = data_atoms(wd / "settled.data")
-    assert len(atoms) == n
+    _, atoms = pile_cell.settle(wd, R_CELL, H_PACK, H_RSA, DT, SETTLE_STEPS, seed=20240613,
+                                z_box_top=0.16)
+    n = len(atoms)
     # apex height at which the descending cone (half-angle 30 degrees) first
     # touches a grain: on its lateral surface (signed distance of the centre
     # from the cone line = r) or, for a grain right under it, at the apex
