@@ -91,3 +91,18 @@ def read_series(path, columns):
     data = np.loadtxt(path, comments="#", ndmin=2)
     assert data.shape[1] == len(columns), data.shape
     return {c: data[:, j] for j, c in enumerate(columns)}
+
+
+# An empty box with the materials, for decks that test bad input of the pile
+# styles (a format string: fill in `inputs`).
+EMPTY_BOX = """\
+variable        inputs index {inputs}
+include         ${{inputs}}/base.in
+atom_modify     sort 0 0.0
+boundary        f f f
+region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
+create_box      3 box
+include         ${{inputs}}/materials_ne34.in
+neighbor        0.002 bin
+timestep        1e-5
+"""

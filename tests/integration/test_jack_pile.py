@@ -501,16 +501,7 @@ BAD_INPUT = [
     ("missing_value", GOOD_CYCLIC + " surface", "keyword 'surface' needs a value"),
 ]
 
-ERROR_MESHES = """\
-variable        inputs index {inputs}
-include         ${{inputs}}/base.in
-atom_modify     sort 0 0.0
-boundary        f f f
-region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
-create_box      3 box
-include         ${{inputs}}/materials_ne34.in
-neighbor        0.002 bin
-timestep        1e-5
+ERROR_MESHES = pile_cell.EMPTY_BOX + """\
 fix             cone all mesh/surface/stress file cone.stl type 2
 fix             plain all mesh/surface file shaft.stl type 2
 fix             pile all wall/gran model hertz tangential history mesh n_meshes 2 meshes cone plain

@@ -412,16 +412,7 @@ def test_one_and_two_ranks_agree(runs):
 # f. bad input
 # ---------------------------------------------------------------------------
 
-ERROR_DECK = """\
-variable        inputs index {inputs}
-include         ${{inputs}}/base.in
-atom_modify     sort 0 0.0
-boundary        f f f
-region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
-create_box      3 box
-include         ${{inputs}}/materials_ne34.in
-neighbor        0.002 bin
-timestep        1e-5
+ERROR_DECK = pile_cell.EMPTY_BOX + """\
 fix             cone all mesh/surface/stress file cone.stl type 2
 fix             shaft all mesh/surface/stress file shaft.stl type 2
 fix             pile all wall/gran model hertz tangential history mesh n_meshes 2 meshes cone shaft
