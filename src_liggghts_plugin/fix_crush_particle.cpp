@@ -64,6 +64,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   d_max_(-1), d_min_(-1), omega_(2.6), d_frag_min_(0.0),
   dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
+  count_pending_(false), count_local_(0), count_all_(0),
   margin_skip_(true), full_scan_pending_(true), scanned_fraction_(1.0), scanned_since_full_(0.0),
   lists_scanned_(0.0), lists_total_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
@@ -216,6 +217,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
 
 FixCrushParticle::~FixCrushParticle()
 {
+  finish_count();
   atom->delete_callback(id, 0);
   atom->delete_callback(id, 1);
   memory->destroy(crush_);
@@ -231,6 +233,7 @@ int FixCrushParticle::setmask()
   mask |= PRE_EXCHANGE;
   mask |= PRE_NEIGHBOR;
   mask |= END_OF_STEP;
+  mask |= POST_INTEGRATE;
   return mask;
 }
 
@@ -342,7 +345,7 @@ void FixCrushParticle::setup(int)
   check_timestep();
   // Contacts over the limit at the end of the previous run (or in the state
   // read from a restart file) break at the first step, as in one long run.
-  detect();
+  detect(true);
   cache_step_ = -1;
 }
 
@@ -590,19 +593,50 @@ void FixCrushParticle::clear_candidates()
 
 void FixCrushParticle::end_of_step()
 {
-  detect();
+  detect(false);
 }
 
-void FixCrushParticle::detect()
+/* ----------------------------------------------------------------------
+   Find the contacts over their limit. Every rank must agree on whether the
+   next step rebuilds neighbour lists (to break particles), so the candidate
+   count is summed over ranks. In the time loop that sum is started here
+   without waiting (MPI_Iallreduce) and collected in post_integrate of the
+   next step, just before Neighbor::decide: the ranks then meet only at the
+   forward communication they meet at anyway. At setup it is summed at once.
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::detect(bool blocking)
 {
+  finish_count();
   clear_candidates();
 
   find_candidates_pairs();
   find_candidates_walls();
 
-  int n_local = (int)candidates_.size(), n_all;
-  MPI_Allreduce(&n_local, &n_all, 1, MPI_INT, MPI_SUM, world);
-  next_reneighbor = (n_all > 0) ? update->ntimestep + 1 : -1;
+  count_local_ = (int)candidates_.size();
+  if (blocking) {
+    MPI_Allreduce(&count_local_, &count_all_, 1, MPI_INT, MPI_SUM, world);
+    next_reneighbor = (count_all_ > 0) ? update->ntimestep + 1 : -1;
+  } else {
+    MPI_Iallreduce(&count_local_, &count_all_, 1, MPI_INT, MPI_SUM, world, &count_request_);
+    count_pending_ = true;
+    next_reneighbor = -1;
+  }
+}
+
+// Collect the candidate count summed in the previous step (see detect).
+void FixCrushParticle::post_integrate()
+{
+  if (!count_pending_) return;
+  finish_count();
+  next_reneighbor = (count_all_ > 0) ? update->ntimestep : -1;
+}
+
+void FixCrushParticle::finish_count()
+{
+  if (!count_pending_) return;
+  MPI_Wait(&count_request_, MPI_STATUS_IGNORE);
+  count_pending_ = false;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -35,6 +35,7 @@ class FixCrushParticle : public Fix {
   void pre_neighbor();
   void pre_exchange();
   void end_of_step();
+  void post_integrate();
   double compute_vector(int);
 
   // per-atom data: sigma_lim and generation
@@ -83,6 +84,11 @@ class FixCrushParticle : public Fix {
   // skip is exact: a list is looked at again before any pair in it can have
   // reached a limit, from its margin and a bound on how far particles moved
   // since the reference positions x0_ (taken at a full scan).
+  // candidate count summed over ranks without blocking (see detect)
+  bool count_pending_;
+  int count_local_, count_all_;
+  MPI_Request count_request_;
+
   bool margin_skip_;
   bool full_scan_pending_;     // after neighbour-list builds, setup, breaks
   double scanned_fraction_;    // share of lists looked at in the last step
@@ -125,7 +131,8 @@ class FixCrushParticle : public Fix {
   void assign_missing_strengths();
   void consider(int i, double delta, double R_star, double E_star_ij, int partner);
   void clear_candidates();
-  void detect();
+  void detect(bool blocking);
+  void finish_count();
   double current_time() const;
   void find_candidates_pairs();
   void find_candidates_walls();
