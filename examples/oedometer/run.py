@@ -12,9 +12,7 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -25,6 +23,7 @@ import numpy as np  # noqa: E402
 from crushpost import oedometer  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+from crushpost.runner import run_liggghts  # noqa: E402
 
 RHO = 2600.0
 
@@ -45,28 +44,15 @@ def build(args, out):
     return R, H, n
 
 
-def run_liggghts(args, out, R, H):
-    binary = args.liggghts or os.path.join(REPO, "build", "liggghts")
+def run_deck(args, out, R, H):
+    binary = args.liggghts
     v = {"inputs": os.path.join(REPO, "inputs"), "N": args.N, "R_cell": R, "H_cell": H,
          "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
          "seed": args.seed, "dt": args.dt, "v_load": args.v_load, "sv_max": args.sv_max,
          "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
          "n_expand_max": args.prep_loops, "grow_rate": args.grow_rate}
-    cmd = ["mpirun", "--oversubscribe", "-np", str(args.np)]
-    if os.geteuid() == 0:
-        cmd.insert(1, "--allow-run-as-root")
-    cmd += [binary, "-in", os.path.join(HERE, "in.oedometer"), "-log", "log.liggghts",
-            "-screen", "none"]
-    for k, val in v.items():
-        cmd += ["-var", k, str(val)]
-    t0 = time.time()
-    rc = subprocess.call(cmd, cwd=out)
-    wall = time.time() - t0
-    if rc != 0:
-        sys.stderr.write("oedometer: LIGGGHTS failed (exit %d); see %s\n"
-                         % (rc, os.path.join(out, "log.liggghts")))
-        sys.exit(rc)
-    return wall
+    return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np, binary=binary,
+                        name="oedometer")
 
 
 def postprocess(args, out, wall, n0):
@@ -134,7 +120,7 @@ def main(argv=None):
     args = p.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
     R, H, n0 = build(args, args.out)
-    wall = run_liggghts(args, args.out, R, H)
+    wall = run_deck(args, args.out, R, H)
     summary = postprocess(args, args.out, wall, n0)
     print(json.dumps(summary, indent=2))
     return 0

@@ -15,9 +15,7 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -28,6 +26,7 @@ import numpy as np  # noqa: E402
 from crushpost import triaxial  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
+from crushpost.runner import run_liggghts  # noqa: E402
 
 RHO = 2600.0
 G_GRAIN, NU_GRAIN = 9e9, 0.2
@@ -110,25 +109,10 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "grow_rate": args.grow_rate}
 
 
-def run_liggghts(args, out, W, H, dt, dt_prep):
-    binary = args.liggghts or os.path.join(REPO, "build", "liggghts")
-    cmd = ["mpirun", "--oversubscribe", "-np", str(args.np)]
-    if os.geteuid() == 0:
-        cmd.insert(1, "--allow-run-as-root")
-    cmd += [binary, "-in", os.path.join(HERE, "in.triaxial"), "-log", "log.liggghts",
-            "-echo", "none", "-screen", "none"]
-    for k, val in liggghts_variables(args, W, H, dt, dt_prep).items():
-        cmd += ["-var", k, repr(val) if isinstance(val, float) else str(val)]
-    env = dict(os.environ)
-    env.setdefault("OMP_NUM_THREADS", "1")
-    t0 = time.time()
-    rc = subprocess.call(cmd, cwd=out, env=env, stdin=subprocess.DEVNULL)
-    wall = time.time() - t0
-    if rc != 0:
-        sys.stderr.write("triaxial: LIGGGHTS failed (exit %d); see %s\n"
-                         % (rc, os.path.join(out, "log.liggghts")))
-        sys.exit(rc)
-    return wall
+def run_deck(args, out, W, H, dt, dt_prep):
+    return run_liggghts(os.path.join(HERE, "in.triaxial"), out,
+                        liggghts_variables(args, W, H, dt, dt_prep), np=args.np,
+                        binary=args.liggghts, name="triaxial")
 
 
 def postprocess(args, out, wall, n0, dt, dt_prep):
@@ -225,7 +209,7 @@ def main(argv=None):
     dt, dt_prep = auto_dt(args.grains, args.N, args.shrink * d_min)
     if args.dt:
         dt = dt_prep = args.dt
-    wall = run_liggghts(args, args.out, W, H, dt, dt_prep)
+    wall = run_deck(args, args.out, W, H, dt, dt_prep)
     summary = postprocess(args, args.out, wall, n0, dt, dt_prep)
     print(json.dumps(summary, indent=2))
     return 0

@@ -1,0 +1,54 @@
+"""Run a LIGGGHTS deck of this package under mpirun, as the example drivers
+(examples/*/run.py) do.
+
+The log goes to ``log.liggghts`` in the run folder (LIGGGHTS may lose
+messages on a piped stdout), the screen output is switched off, and a failed
+run stops the driver with a message that names the log.
+"""
+
+import os
+import subprocess
+import sys
+import time
+
+__all__ = ["default_binary", "mpirun_command", "run_liggghts"]
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def default_binary():
+    """``$LIGGGHTS_BIN`` if set, else ``build/liggghts`` of this checkout."""
+    return os.environ.get("LIGGGHTS_BIN") or os.path.join(REPO, "build", "liggghts")
+
+
+def _format(value):
+    # floats keep every digit; everything else as LIGGGHTS would read it
+    return repr(value) if isinstance(value, float) else str(value)
+
+
+def mpirun_command(deck, variables, np=1, binary=None, log="log.liggghts", as_root=None):
+    """The command line: ``mpirun [--allow-run-as-root] --oversubscribe -np NP
+    BINARY -in DECK -log LOG -echo none -screen none -var k v ...``."""
+    if as_root is None:
+        as_root = hasattr(os, "geteuid") and os.geteuid() == 0
+    cmd = ["mpirun"] + (["--allow-run-as-root"] if as_root else []) + ["--oversubscribe", "-np", str(int(np))]
+    cmd += [binary or default_binary(), "-in", str(deck), "-log", log, "-echo", "none", "-screen", "none"]
+    for key, value in variables.items():
+        cmd += ["-var", str(key), _format(value)]
+    return cmd
+
+
+def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts"):
+    """Run the deck in `workdir`; return the wall time in seconds. On failure
+    print where the log is and exit with LIGGGHTS' exit code."""
+    cmd = mpirun_command(deck, variables, np=np, binary=binary)
+    env = dict(os.environ)
+    env.setdefault("OMP_NUM_THREADS", "1")
+    t0 = time.time()
+    rc = subprocess.call(cmd, cwd=workdir, env=env, stdin=subprocess.DEVNULL)
+    wall = time.time() - t0
+    if rc != 0:
+        sys.stderr.write("%s: LIGGGHTS failed (exit %d); see %s\n"
+                         % (name, rc, os.path.join(workdir, "log.liggghts")))
+        sys.exit(rc)
+    return wall

@@ -1,0 +1,21 @@
+"""crushpost.runner: the mpirun command line of the example drivers."""
+
+from crushpost.runner import mpirun_command
+
+
+def test_command_line_order_and_values():
+    cmd = mpirun_command("in.x", {"N": 39.0, "dt": 1.5e-7, "grain_model": "unbreakable", "n": 3},
+                         np=2, binary="/b/liggghts", as_root=False)
+    assert cmd[:4] == ["mpirun", "--oversubscribe", "-np", "2"]
+    assert cmd[4:13] == ["/b/liggghts", "-in", "in.x", "-log", "log.liggghts",
+                         "-echo", "none", "-screen", "none"]
+    pairs = dict(zip(cmd[14::3], cmd[15::3]))
+    assert cmd[13::3] == ["-var"] * 4
+    # floats keep all their digits
+    assert pairs == {"N": "39.0", "dt": "1.5e-07", "grain_model": "unbreakable", "n": "3"}
+    assert float(pairs["dt"]) == 1.5e-7
+
+
+def test_root_flag():
+    assert mpirun_command("d", {}, as_root=True, binary="b")[1] == "--allow-run-as-root"
+    assert "--allow-run-as-root" not in mpirun_command("d", {}, as_root=False, binary="b")
