@@ -6,13 +6,13 @@
 # a LIGGGHTS version we were not written for is noticed.
 function(_crush_patch file from to)
   file(READ "${file}" _text)
+  string(FIND "${_text}" "${to}" _done)
+  if(NOT _done EQUAL -1)
+    return()  # already patched (`to` may contain `from`)
+  endif()
   string(FIND "${_text}" "${from}" _pos)
   if(_pos EQUAL -1)
-    string(FIND "${_text}" "${to}" _done)
-    if(_done EQUAL -1)
-      message(FATAL_ERROR "Cannot patch ${file}: text not found: ${from}")
-    endif()
-    return()
+    message(FATAL_ERROR "Cannot patch ${file}: text not found: ${from}")
   endif()
   string(REPLACE "${from}" "${to}" _text "${_text}")
   file(WRITE "${file}" "${_text}")
@@ -87,6 +87,16 @@ function(prepare_liggghts_source src dst plugin_dir)
   _crush_patch("${dst}/thermo.cpp"
     "if(ntotal < last_natoms)\n    lost = true;"
     "if(ntotal < last_natoms && ntotal != atom->natoms)\n    lost = true;")
+
+  # mesh/surface/stress zeroes its total force in pre_force and sums it over
+  # the ranks in final_integrate, but not around the set-up of a run, where
+  # fix wall/gran adds the set-up forces on top of the previous total: the
+  # first thermo row of every run (and anything evaluated at setup) read
+  # about twice the force. Reset the totals at setup as at every step, so
+  # that at setup the last summed total (that of the previous step) is read.
+  _crush_patch("${dst}/mesh_module_stress.h"
+    "virtual void setup(int vflag) {}"
+    "virtual void setup(int vflag) {}\n        virtual void setup_pre_force(int vflag) { pre_force(vflag); }")
 
   # Style registries: every header (stock or ours) that declares the class.
   set(_styles
