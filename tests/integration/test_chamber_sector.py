@@ -143,7 +143,7 @@ def sector_run(tmp_path_factory):
 
 
 def test_packing_lies_in_the_quarter(sector_run):
-    data = np.loadtxt(sector_run["work"] / "grains.data", skiprows=9)
+    data = np.loadtxt(sector_run["work"] / "grains.data", skiprows=11)
     r = 0.5 * data[:, 2]
     assert np.all(data[:, 4] >= r) and np.all(data[:, 5] >= r)
     assert np.all(np.hypot(data[:, 4], data[:, 5]) + r <= R0 * (1 + 1e-12))
