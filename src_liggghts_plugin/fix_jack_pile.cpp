@@ -21,6 +21,7 @@
 #include "fix_jack_pile.h"
 
 #include <cfloat>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -73,6 +74,11 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
   state_.phase_time = 0.0;
 
   parse_args(narg, arg);
+  // the depth reference must be the same number on every rank: a deck may
+  // give it as ${var} of an equal-style variable evaluated on each rank
+  // (e.g. a mesh's reference point, which LIGGGHTS' mesh totals at the
+  // set-up of a run can leave differing in the last digits between ranks)
+  MPI_Bcast(&surface_z_, 1, MPI_DOUBLE, 0, world);
 
   vector_flag = 1;
   size_vector = 7;
@@ -395,7 +401,15 @@ void FixJackPile::check_motion(double z_tip, double z_shaft)
   double moved = 0.0;
   if (fabs(moved_cone - expected) > tol) { which = "cone"; moved = moved_cone; }
   else if (fabs(moved_shaft - expected) > tol) { which = "shaft"; moved = moved_shaft; }
-  if (which) {
+  // every rank must take the same decision (error->all is collective)
+  int bad = which ? 1 : 0, bad_any = 0;
+  MPI_Allreduce(&bad, &bad_any, 1, MPI_INT, MPI_MAX, world);
+  if (bad != bad_any)
+    fprintf(stderr, "fix jack/pile: rank %d: check_motion %s: z_tip %.17g prev %.17g z_shaft %.17g "
+            "prev %.17g v_cmd %.17g dt %.17g step " BIGINT_FORMAT "\n", comm->me, bad ? "failed" : "passed",
+            z_tip, z_tip_prev_, z_shaft, z_shaft_prev_, v_cmd_, dt_cmd_, update->ntimestep);
+  if (bad_any) {
+    if (!which) { which = "cone"; moved = moved_cone; }
     char msg[1024];
     snprintf(msg, sizeof(msg),
              "fix jack/pile: the %s mesh (fix %s) moved by %.6g m in step " BIGINT_FORMAT

@@ -48,7 +48,7 @@ def run_liggghts(a, out, tip_z0):
         jack = "mode monotonic v %g depth %g" % (a.v_push, a.depth)
     v = {"inputs": os.path.join(REPO, "inputs"), "N": a.N, "R_ch": a.R_ch, "H_ch": a.H_ch,
          "R_pile": a.R_pile, "R_hole": hole_radius(a.R_pile), "sector": a.sector,
-         "grain_model": a.grains, "seed": a.seed,
+         "grain_model": a.grains, "seed": a.seed, "proc_grid": a.proc_grid,
          "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
          "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every, "jack_every": a.jack_every}
     cmd = ["mpirun", "--oversubscribe", "-np", str(a.np)]
@@ -158,6 +158,8 @@ def main(argv=None):
     p.add_argument("--R-pile", type=float, default=0.018, help="pile radius (m)")
     p.add_argument("--sector", type=int, default=360, choices=[360, 180, 90],
                    help="simulated sector of the chamber (degrees), bounded by frictionless symmetry planes")
+    p.add_argument("--proc-grid", default="* * 1",
+                   help="MPI processor grid (LIGGGHTS processors command), e.g. '* * 1'")
     p.add_argument("--n-target", type=float, default=0.385)
     p.add_argument("--shrink", type=float, default=0.75)
     p.add_argument("--prep-loops", type=int, default=40)
