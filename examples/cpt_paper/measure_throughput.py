@@ -31,6 +31,8 @@ def main(argv=None):
     p.add_argument("--R-ch", type=float, default=0.108)
     p.add_argument("--H-ch", type=float, default=0.2)
     p.add_argument("--jack-steps", type=int, default=6000)
+    p.add_argument("--expand-chunks", type=int, default=5, help="radius-expansion chunks of 2000 steps")
+    p.add_argument("--grow-rate", type=float, default=1e-3)
     p.add_argument("--liggghts", default=os.path.join(REPO, "build", "liggghts"))
     a = p.parse_args(argv)
     dt, v = 1.5e-7, 0.5
@@ -46,8 +48,8 @@ def main(argv=None):
             cmd.insert(1, "--allow-run-as-root")
         cmd += [a.liggghts, "-in", os.path.join(HERE, "in.monotonic"), "-log", log, "-screen", "none"]
         var = {"inputs": os.path.join(REPO, "inputs"), "deck_dir": HERE, "R_ch": a.R_ch, "H_ch": a.H_ch,
-               "jack_args": "mode monotonic v %g depth %g" % (v, depth), "n_expand_max": 5,
-               "grow_rate": 1e-3, "servo_steps": 3000, "jack_chunk": 2000, "output_block": "none",
+               "jack_args": "mode monotonic v %g depth %g" % (v, depth), "n_expand_max": a.expand_chunks,
+               "grow_rate": a.grow_rate, "servo_steps": 3000, "jack_chunk": 2000, "output_block": "none",
                "thermo_every": 1000, "proc_grid": "* * 1" if n > 1 else "1 1 1"}
         for k, val in var.items():
             cmd += ["-var", k, str(val)]
@@ -57,7 +59,9 @@ def main(argv=None):
         loops = re.findall(r"Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", jack_part)
         mem = re.findall(r"Memory usage per processor = ([\d.]+) Mbytes", jack_part)
         rates = [int(s) * int(at) / (float(t) * int(pr)) for t, pr, s, at in loops if int(s) > 0]
+        por = re.findall(r"CHAMBER prepared: .* porosity ([\d.]+)", text)
         results.append({"np": n, "atoms": int(loops[-1][3]), "chunks": len(rates),
+                        "porosity_after_servo": float(por[-1]) if por else None,
                         "particle_steps_per_core_s": rates, "best": max(rates),
                         "median": sorted(rates)[len(rates) // 2],
                         "memory_MB_per_rank": float(mem[-1]) if mem else None})
