@@ -207,6 +207,15 @@ inline double jack_update(const JackParams &p, JackState &s, double depth, doubl
   return jack_velocity(p, s, depth, head_force, dt_next);
 }
 
+// Axial force on the whole pile from the force measured in a chamber sector
+// of sector_deg degrees (0 < sector_deg <= 360) bounded by symmetry planes
+// through the pile axis: the grains of the sector touch that fraction of the
+// pile's surface, and by symmetry the other sectors carry the same force.
+inline double jack_full_pile_force(double f_sector, double sector_deg)
+{
+  return f_sector * (360.0 / sector_deg);
+}
+
 }  // namespace CrushKernels
 
 #endif

@@ -103,6 +103,15 @@ inline double wall_perimeter(double area_total, double wall_height)
   return area_total / wall_height;
 }
 
+// Loaded perimeter of the lateral wall of a chamber sector of sector_deg
+// degrees (0 < sector_deg <= 360) bounded by symmetry planes through the
+// axis: the arc of the circle of radius R that the sector's grains touch.
+inline double sector_arc_length(double sector_deg, double R)
+{
+  const double pi = 3.14159265358979323846;
+  return sector_deg * (pi / 180.0) * R;
+}
+
 // Perimeter of the regular polygon of n sides inscribed in a circle of radius R.
 inline double polygon_perimeter(int n, double R)
 {

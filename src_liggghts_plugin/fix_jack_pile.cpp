@@ -21,6 +21,7 @@
 #include "fix_jack_pile.h"
 
 #include <cfloat>
+#include <cstdio>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -61,7 +62,7 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
   cone_id_(NULL), shaft_id_(NULL), cone_(NULL), shaft_(NULL),
   cone_stress_(NULL), shaft_stress_(NULL),
   have_surface_(false), surface_z_(0.0), check_motion_(true),
-  file_name_(NULL), fp_(NULL), every_(1),
+  sector_deg_(360.0), file_name_(NULL), fp_(NULL), every_(1),
   started_(false), z_ref_(0.0), v_cmd_(0.0), dt_cmd_(0.0), depth_(0.0),
   f_cone_(0.0), f_shaft_(0.0), f_head_(0.0), z_tip_prev_(0.0), z_shaft_prev_(0.0),
   time_offset_(0.0), restart_time_(0.0), restart_time_pending_(false)
@@ -73,6 +74,11 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
   state_.phase_time = 0.0;
 
   parse_args(narg, arg);
+  // the depth reference must be the same number on every rank: a deck may
+  // give it as ${var} of an equal-style variable evaluated on each rank
+  // (e.g. a mesh's reference point, which LIGGGHTS' mesh totals at the
+  // set-up of a run can leave differing in the last digits between ranks)
+  MPI_Bcast(&surface_z_, 1, MPI_DOUBLE, 0, world);
 
   vector_flag = 1;
   size_vector = 7;
@@ -94,6 +100,8 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
                   params_.stroke,
                   params_.strokes == JACK_STROKES_ABSOLUTE ? "absolute" : "relative",
                   params_.v_unload, params_.pause, params_.zero_tol, params_.pause_servo);
+        if (sector_deg_ < 360.0)
+          fprintf(fp_, ", sector %.10g deg (forces scaled by 360/sector to the whole pile)", sector_deg_);
         fprintf(fp_, "\n# forces on the pile from the grains, + up (resisting the push); "
                      "phase 0 push 1 unload 2 pause 3 done (after this step's update); "
                      "v_next = velocity for the next step (+ up)\n");
@@ -134,10 +142,10 @@ void FixJackPile::parse_args(int narg, char **arg)
 {
   // fix ID group jack/pile cone C shaft S mode monotonic|cyclic v V depth D
   //     [stroke S v_unload VU pause T zero_tol F0 strokes absolute|relative pause_servo G]
-  //     [surface Z] [file F] [every N] [check_motion yes|no]
+  //     [surface Z] [sector ANGLE] [file F] [every N] [check_motion yes|no]
   static const char *kKeywords =
       "cone, shaft, mode, v, depth, stroke, v_unload, pause, zero_tol, strokes, pause_servo, "
-      "surface, file, every, check_motion";
+      "surface, sector, file, every, check_motion";
   bool have_mode = false, have_v = false, have_depth = false;
   bool have_stroke = false, have_vu = false, have_pause = false;
   const char *cyclic_key = NULL;  // first cyclic-only keyword given
@@ -218,6 +226,11 @@ void FixJackPile::parse_args(int narg, char **arg)
         error->all(FLERR, ("fix jack/pile: keyword 'surface' must be a finite z (m), got " +
                            str(val)).c_str());
       have_surface_ = true;
+    } else if (key == "sector") {
+      sector_deg_ = parse_number("sector", val, "> 0 and <= 360 (degrees)");
+      if (!(sector_deg_ > 0.0 && sector_deg_ <= 360.0))
+        error->all(FLERR, ("fix jack/pile: keyword 'sector' (simulated sector of the chamber) must be "
+                           "> 0 and <= 360 (degrees), got " + str(val)).c_str());
     } else if (key == "file") {
       delete[] file_name_;
       file_name_ = copy_string(val);
@@ -388,7 +401,15 @@ void FixJackPile::check_motion(double z_tip, double z_shaft)
   double moved = 0.0;
   if (fabs(moved_cone - expected) > tol) { which = "cone"; moved = moved_cone; }
   else if (fabs(moved_shaft - expected) > tol) { which = "shaft"; moved = moved_shaft; }
-  if (which) {
+  // every rank must take the same decision (error->all is collective)
+  int bad = which ? 1 : 0, bad_any = 0;
+  MPI_Allreduce(&bad, &bad_any, 1, MPI_INT, MPI_MAX, world);
+  if (bad != bad_any)
+    fprintf(stderr, "fix jack/pile: rank %d: check_motion %s: z_tip %.17g prev %.17g z_shaft %.17g "
+            "prev %.17g v_cmd %.17g dt %.17g step " BIGINT_FORMAT "\n", comm->me, bad ? "failed" : "passed",
+            z_tip, z_tip_prev_, z_shaft, z_shaft_prev_, v_cmd_, dt_cmd_, update->ntimestep);
+  if (bad_any) {
+    if (!which) { which = "cone"; moved = moved_cone; }
     char msg[1024];
     snprintf(msg, sizeof(msg),
              "fix jack/pile: the %s mesh (fix %s) moved by %.6g m in step " BIGINT_FORMAT
@@ -412,8 +433,10 @@ void FixJackPile::end_of_step()
 
   // totals of this step (summed over ranks in the meshes' final_integrate):
   // force of the grains on each mesh, z component, + up
-  f_cone_ = cone_stress_->f_total(2);
-  f_shaft_ = shaft_stress_->f_total(2);
+  // in a chamber sector the grains touch only that sector of the pile:
+  // report (and control with) the forces on the whole pile
+  f_cone_ = jack_full_pile_force(cone_stress_->f_total(2), sector_deg_);
+  f_shaft_ = jack_full_pile_force(shaft_stress_->f_total(2), sector_deg_);
   f_head_ = f_cone_ + f_shaft_;
   depth_ = z_ref_ - z_tip;
 

@@ -49,6 +49,7 @@ class FixJackPile : public Fix {
   bool have_surface_;
   double surface_z_;
   bool check_motion_;
+  double sector_deg_;  // simulated sector of the chamber (degrees)
   char *file_name_;
   FILE *fp_;
   int every_;

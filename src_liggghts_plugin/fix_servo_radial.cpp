@@ -78,7 +78,7 @@ class NodeAccess : public MeshMover {
 FixServoRadial::FixServoRadial(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   target_(-1.0), gain_(-1.0), vmax_(-1.0), height_const_(-1.0), height_ivar_(-1),
-  x0_(0.0), y0_(0.0), fix_mesh_(NULL), mesh_(NULL), node_access_(NULL), registered_(false),
+  x0_(0.0), y0_(0.0), sector_deg_(-1.0), fix_mesh_(NULL), mesh_(NULL), node_access_(NULL), registered_(false),
   radius_(0.0), sigma_r_(0.0), v_r_(0.0), height_now_(0.0)
 {
   parse_args(narg, arg);
@@ -160,9 +160,10 @@ void FixServoRadial::parse_args(int narg, char **arg)
     if (key == "target") range = "> 0 (Pa)";
     else if (key == "gain") range = "> 0 (m/s per Pa)";
     else if (key == "vmax") range = "> 0 (m/s)";
+    else if (key == "sector") range = "> 0 and <= 360 (degrees)";
     else
       error->all(FLERR, ("fix servo/radial: unknown keyword '" + key +
-                         "'; expected mesh, target, gain, vmax, height, axis").c_str());
+                         "'; expected mesh, target, gain, vmax, height, axis, sector").c_str());
     if (iarg + 2 > narg)
       error->all(FLERR, ("fix servo/radial: keyword '" + key + "' needs a value " + range).c_str());
     const char *v = arg[iarg + 1];
@@ -172,10 +173,11 @@ void FixServoRadial::parse_args(int narg, char **arg)
       error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword '" + key +
                          "' is not a number; allowed range is " + range).c_str());
     // written so that NaN is rejected too
-    if (!(val > 0.0) || !std::isfinite(val))
+    if (!(val > 0.0) || !std::isfinite(val) || (key == "sector" && val > 360.0))
       error->all(FLERR, ("fix servo/radial: keyword '" + key + "' must be " + range +
                          ", got " + str(v)).c_str());
-    if (key == "target") target_ = val;
+    if (key == "sector") sector_deg_ = val;
+    else if (key == "target") target_ = val;
     else if (key == "gain") gain_ = val;
     else vmax_ = val;
     iarg += 2;
@@ -472,7 +474,20 @@ void FixServoRadial::measure(bool include_ghosts)
 
   radius_ = sums_all[2] / sums_all[3];
   height_now_ = sample_height();
-  sigma_r_ = radial_stress(sums_all[0], wall_perimeter(sums_all[1], wall_height), height_now_);
+  double perimeter = wall_perimeter(sums_all[1], wall_height);
+  if (sector_deg_ > 0.0) {
+    // the grains fill a sector of the chamber: the loaded wall is its arc
+    const double arc = sector_arc_length(sector_deg_, radius_);
+    if (arc > 1.01 * perimeter) {
+      char buf[160];
+      snprintf(buf, sizeof(buf), "%g degrees (arc %g m) is wider than mesh '%s' (perimeter %g m)",
+               sector_deg_, arc, mesh_id_.c_str(), perimeter);
+      error->all(FLERR, ("fix servo/radial: keyword 'sector': " + str(buf) +
+                         "; the mesh must span at least the sector").c_str());
+    }
+    perimeter = arc;
+  }
+  sigma_r_ = radial_stress(sums_all[0], perimeter, height_now_);
 }
 
 /* ----------------------------------------------------------------------

@@ -42,6 +42,7 @@ class FixServoRadial : public Fix {
   std::string height_var_;   // name after v_ when 'height' is a variable
   int height_ivar_;
   double x0_, y0_;
+  double sector_deg_;        // > 0: the grains fill this sector (degrees)
 
   class FixMeshSurface *fix_mesh_;
   class TriMesh *mesh_;

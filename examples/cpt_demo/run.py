@@ -25,9 +25,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost.dump import read_crush_log  # noqa: E402
-from crushpost.meshes import (annulus_triangles, cylinder_triangles, plate_triangles,  # noqa: E402
-                              write_pile_stl, write_stl)
-from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.thermo import read_log  # noqa: E402
 from crushpost.trend import fit_qc_trend, qc_trend  # noqa: E402
 
@@ -36,23 +34,9 @@ JACK_COLUMNS = ("step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase",
 
 
 def build(a, out):
-    d50 = D50_NE34 * a.N
-    R, H = a.R_ch, a.H_ch
-    rng = np.random.default_rng(a.packing_seed)
-    d = ne34_diameters(int(40 * R * R * H / d50 ** 3) + 100, a.N, rng=rng)
-    n = int(np.searchsorted(np.cumsum(np.pi / 6 * d ** 3), (1 - a.n_target) * math.pi * R * R * H))
-    d = d[:n] * a.shrink
-    pos = rsa_cylinder(d, R, 0.0, H, rng=rng)
-    tip_z0 = H
-    pile = write_pile_stl(out, a.R_pile, shaft_length=a.depth + 0.05 * H + 2 * d50, tip_z=tip_z0, n_seg=24)
-    L = 1.25 * R
-    write_lammps_data(os.path.join(out, "grains.data"), pos, d, RHO,
-                      (-L, L, -L, L, -0.05 * H, pile["z_top"] + 0.02 * H), ntypes=3)
-    write_stl(os.path.join(out, "side.stl"), cylinder_triangles(R, -0.02 * H, 1.1 * H, 48), "side")
-    write_stl(os.path.join(out, "bottom.stl"), plate_triangles(1.15 * R), "bottom")
-    write_stl(os.path.join(out, "top.stl"), annulus_triangles(1.25 * a.R_pile, 1.15 * R, 0.0, 48), "top")
-    write_stl(os.path.join(out, "plug.stl"), plate_triangles(1.4 * a.R_pile, 0.001 * H), "plug")
-    return n, tip_z0
+    c = write_chamber(out, a.N, a.R_ch, a.H_ch, a.R_pile, a.depth, n_target=a.n_target,
+                      shrink=a.shrink, sector=a.sector, rng=a.packing_seed, fast=False)
+    return c["n"], c["tip_z0"]
 
 
 def run_liggghts(a, out, tip_z0):
@@ -63,7 +47,8 @@ def run_liggghts(a, out, tip_z0):
     else:
         jack = "mode monotonic v %g depth %g" % (a.v_push, a.depth)
     v = {"inputs": os.path.join(REPO, "inputs"), "N": a.N, "R_ch": a.R_ch, "H_ch": a.H_ch,
-         "R_pile": a.R_pile, "tip_z0": tip_z0, "grain_model": a.grains, "seed": a.seed,
+         "R_pile": a.R_pile, "R_hole": hole_radius(a.R_pile), "sector": a.sector,
+         "grain_model": a.grains, "seed": a.seed, "proc_grid": a.proc_grid,
          "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
          "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every, "jack_every": a.jack_every}
     cmd = ["mpirun", "--oversubscribe", "-np", str(a.np)]
@@ -153,7 +138,8 @@ def postprocess(a, out, wall, n0, tip_z0):
         "n_particles_initial": int(n0), "n_particles_final": int(last["Atoms"][-1]),
         "final_depth_m": float(jack["depth"].max()), "cycles": int(jack["cycle"].max()) if "cycle" in jack else 0,
         "wall_time_s": wall, "mpi_ranks": a.np, "mode": a.mode, "grains": a.grains, "N": a.N,
-        "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "plots": plots,
+        "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
+        "plots": plots,
     }
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
@@ -167,19 +153,23 @@ def main(argv=None):
     p.add_argument("--mode", default="cyclic", choices=["cyclic", "monotonic"])
     p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
     p.add_argument("--N", type=float, default=39.0)
-    p.add_argument("--R-ch", type=float, default=0.05, help="chamber radius (m)")
-    p.add_argument("--H-ch", type=float, default=0.08, help="chamber height (m)")
+    p.add_argument("--R-ch", type=float, default=0.06, help="chamber radius (m)")
+    p.add_argument("--H-ch", type=float, default=0.1, help="chamber height (m)")
     p.add_argument("--R-pile", type=float, default=0.018, help="pile radius (m)")
+    p.add_argument("--sector", type=int, default=360, choices=[360, 180, 90],
+                   help="simulated sector of the chamber (degrees), bounded by frictionless symmetry planes")
+    p.add_argument("--proc-grid", default="* * 1",
+                   help="MPI processor grid (LIGGGHTS processors command), e.g. '* * 1'")
     p.add_argument("--n-target", type=float, default=0.385)
     p.add_argument("--shrink", type=float, default=0.75)
     p.add_argument("--prep-loops", type=int, default=40)
     p.add_argument("--s-prep", type=float, default=50e3, help="radius-expansion stress (Pa)")
     p.add_argument("--servo-steps", type=int, default=20000)
     p.add_argument("--v-push", type=float, default=1.0)
-    p.add_argument("--stroke", type=float, default=0.007)
+    p.add_argument("--stroke", type=float, default=0.01)
     p.add_argument("--v-unload", type=float, default=0.5)
     p.add_argument("--pause", type=float, default=5e-4)
-    p.add_argument("--depth", type=float, default=0.021)
+    p.add_argument("--depth", type=float, default=0.03)
     p.add_argument("--zero-tol", type=float, default=1.0)
     p.add_argument("--dt", type=float, default=1.5e-7)
     p.add_argument("--thermo-every", type=int, default=1000)

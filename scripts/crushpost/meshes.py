@@ -26,10 +26,13 @@ def write_stl(path, triangles, name="mesh"):
         f.write("endsolid %s\n" % name)
 
 
-def plate_triangles(half_width, z=0.0):
-    """Square plate |x|, |y| <= half_width in the plane z, normal +z (two facets)."""
+def plate_triangles(half_width, z=0.0, lo=None):
+    """Square plate |x|, |y| <= half_width in the plane z, normal +z (two facets).
+    ``lo`` = (x_lo, y_lo): the plate spans x_lo <= x <= half_width,
+    y_lo <= y <= half_width instead (the bottom of a chamber sector)."""
     h = half_width
-    p = [(-h, -h, z), (h, -h, z), (h, h, z), (-h, h, z)]
+    xl, yl = (-h, -h) if lo is None else lo
+    p = [(xl, yl, z), (h, yl, z), (h, h, z), (xl, h, z)]
     return [(p[0], p[1], p[2]), (p[0], p[2], p[3])]
 
 
@@ -79,19 +82,23 @@ def axis_plate_triangles(half_width, axis, offset=0.0):
     return [(pts[0], pts[1], pts[2]), (pts[0], pts[2], pts[3])]
 
 
-def cylinder_triangles(radius, z_lo, z_hi, n_seg, center=(0.0, 0.0), inward=True):
+def cylinder_triangles(radius, z_lo, z_hi, n_seg, center=(0.0, 0.0), inward=True,
+                       phi0=0.0, phi1=360.0):
     """Lateral surface of a cylinder with its axis along z through ``center``:
     ``n_seg`` vertical strips (two facets each) between z_lo and z_hi, nodes on
     the circle of ``radius`` (an inscribed polygon; its perimeter is
     2 n_seg radius sin(pi / n_seg)). No caps. Facet normals point to the axis
     when ``inward`` (a chamber wall), away from it otherwise. For fix
-    servo/radial, which needs exactly this shape."""
+    servo/radial, which needs exactly this shape. ``phi0``, ``phi1`` (degrees,
+    default the full circle): an arc of the cylinder from azimuth phi0 to phi1
+    (``n_seg`` strips over the arc), the side wall of a chamber sector."""
     import math
     x0, y0 = center
+    span = math.radians(phi1 - phi0)
     tris = []
     for k in range(n_seg):
-        a0 = 2.0 * math.pi * k / n_seg
-        a1 = 2.0 * math.pi * (k + 1) / n_seg
+        a0 = math.radians(phi0) + span * k / n_seg
+        a1 = math.radians(phi0) + span * (k + 1) / n_seg
         b0 = (x0 + radius * math.cos(a0), y0 + radius * math.sin(a0), z_lo)
         b1 = (x0 + radius * math.cos(a1), y0 + radius * math.sin(a1), z_lo)
         t0 = (b0[0], b0[1], z_hi)
@@ -235,15 +242,18 @@ def read_stl(path):
             np.array(verts, dtype=float).reshape(-1, 3, 3))
 
 
-def annulus_triangles(r_in, r_out, z, n_seg, center=(0.0, 0.0)):
+def annulus_triangles(r_in, r_out, z, n_seg, center=(0.0, 0.0), phi0=0.0, phi1=360.0):
     """Flat ring r_in <= r <= r_out in the plane z (normal +z), n_seg sectors:
-    a platen with a hole for the pile (calibration chamber top wall)."""
+    a platen with a hole for the pile (calibration chamber top wall).
+    ``phi0``, ``phi1`` (degrees): only the part from azimuth phi0 to phi1
+    (the top wall of a chamber sector)."""
     import math
     x0, y0 = center
+    span = math.radians(phi1 - phi0)
     tris = []
     for k in range(n_seg):
-        a0 = 2.0 * math.pi * k / n_seg
-        a1 = 2.0 * math.pi * (k + 1) / n_seg
+        a0 = math.radians(phi0) + span * k / n_seg
+        a1 = math.radians(phi0) + span * (k + 1) / n_seg
         i0 = (x0 + r_in * math.cos(a0), y0 + r_in * math.sin(a0), z)
         i1 = (x0 + r_in * math.cos(a1), y0 + r_in * math.sin(a1), z)
         o0 = (x0 + r_out * math.cos(a0), y0 + r_out * math.sin(a0), z)

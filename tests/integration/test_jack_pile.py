@@ -499,6 +499,9 @@ BAD_INPUT = [
     ("every_fraction", GOOD_CYCLIC + " every 2.5", "keyword 'every' must be an integer >= 1"),
     ("unknown_keyword", GOOD_CYCLIC + " speed 3", "unknown keyword 'speed'; expected cone, shaft"),
     ("missing_value", GOOD_CYCLIC + " surface", "keyword 'surface' needs a value"),
+    ("sector_zero", GOOD_CYCLIC + " sector 0",
+     "keyword 'sector' (simulated sector of the chamber) must be > 0 and <= 360 (degrees), got 0"),
+    ("sector_too_wide", GOOD_CYCLIC + " sector 400", "must be > 0 and <= 360 (degrees), got 400"),
 ]
 
 ERROR_MESHES = pile_cell.EMPTY_BOX + """\

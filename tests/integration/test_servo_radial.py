@@ -294,6 +294,8 @@ ERROR_CASES = {
                     "keyword 'height' must be > 0 (m)"),
     "unknown_keyword": (WALL + "fix s all servo/radial %s speed 2\n" % OK_ARGS,
                         "unknown keyword 'speed'; expected mesh, target, gain, vmax, height, axis"),
+    "sector_too_wide": (WALL + "fix s all servo/radial %s sector 400\n" % OK_ARGS,
+                        "keyword 'sector' must be > 0 and <= 360 (degrees), got 400"),
     "mesh_missing": (WALL + "fix s all servo/radial mesh nope target 76e3 gain 1e-6 height 0.04\n",
                      "no fix with ID 'nope' given to keyword 'mesh'"),
     "mesh_not_stress": ("fix plain all mesh/surface file chamber.stl type 3\n" + WALL +

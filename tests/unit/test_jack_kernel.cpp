@@ -404,3 +404,40 @@ TEST(JackKernel, ArrivesFarFromTheOriginDespiteRoundOff)
     EXPECT_LE(n, n_exact + 1);
   }
 }
+
+// A chamber sector bounded by symmetry planes through the pile axis: the
+// grains of the sector load only its share of the cone. Uniform pressure p on
+// the facets of a 24-facet 60 degree cone whose centroids lie in the sector:
+// the full-pile force from the sector's force is the axial force of p on the
+// whole cone, p pi R^2 (a cone's projected area; the inscribed polygon's
+// area for the facets), for a half and a quarter; and the head load that
+// ends an unload is compared in full-pile newtons.
+TEST(JackKernel, SectorForceScaledToTheWholePile)
+{
+  const double kPi = 3.14159265358979323846;
+  const double p = 5e6, R = 0.018, h = std::sqrt(3.0) * R;
+  const int n = 24;
+  for (double theta : {360.0, 180.0, 90.0}) {
+    double fz_sector = 0.0;
+    for (int k = 0; k < n; k++) {
+      const double a0 = 2.0 * kPi * k / n, a1 = 2.0 * kPi * (k + 1) / n;
+      const double A[3] = {0.0, 0.0, 0.0};
+      const double B[3] = {R * std::cos(a0), R * std::sin(a0), h};
+      const double C[3] = {R * std::cos(a1), R * std::sin(a1), h};
+      const double u[3] = {B[0] - A[0], B[1] - A[1], B[2] - A[2]};
+      const double v[3] = {C[0] - A[0], C[1] - A[1], C[2] - A[2]};
+      // u x v / 2: area vector pointing into the cone (up and inwards)
+      const double nA[3] = {0.5 * (u[1] * v[2] - u[2] * v[1]), 0.5 * (u[2] * v[0] - u[0] * v[2]),
+                            0.5 * (u[0] * v[1] - u[1] * v[0])};
+      const double az = std::fmod(std::atan2((B[1] + C[1]) / 3.0, (B[0] + C[0]) / 3.0) * 180.0 / kPi + 360.0,
+                                  360.0);
+      if (az > theta) continue;
+      // the grains push on the cone's outside, i.e. along that vector: + up
+      fz_sector += p * nA[2];
+    }
+    const double polygon_area = 0.5 * n * R * R * std::sin(2.0 * kPi / n);
+    EXPECT_NEAR(jack_full_pile_force(fz_sector, theta), p * polygon_area, 1e-9 * p * polygon_area);
+  }
+  EXPECT_DOUBLE_EQ(jack_full_pile_force(3.0, 90.0), 12.0);
+  EXPECT_DOUBLE_EQ(jack_full_pile_force(-2.0, 360.0), -2.0);
+}

@@ -292,3 +292,35 @@ TEST(ServoKernel, XyScalingOfAStripKeepsHeightAndNormalTurnsTheDiagonal)
   // the slanted edge b0 -> t1 turns: that is why the fix recomputes it
   EXPECT_GT(std::fabs(g1.edge_vec[0][2] - g0.edge_vec[0][2]), 1e-6);
 }
+
+// A chamber sector: uniform pressure p on the facets of the strips that lie in
+// the sector (azimuth 0..theta of a fine strip cylinder, as the grains of a
+// sector bounded by symmetry planes load it), none on the margin strips: the
+// stress over the sector's arc theta R equals p to the polygon's deviation
+// from the circle (sin(x)/x for strips of angle 2x), for a quarter and a half.
+TEST(ServoKernel, SectorArcLengthGivesThePressureOnTheLoadedStrips)
+{
+  EXPECT_NEAR(sector_arc_length(360.0, 0.2), 2.0 * kPi * 0.2, 1e-15);
+  EXPECT_NEAR(sector_arc_length(90.0, 0.2), 0.5 * kPi * 0.2, 1e-15);
+  const double p = 76e3, R = 0.05, H = 0.1;
+  const int n_seg = 48;                      // 7.5 degree strips
+  for (double theta : {90.0, 180.0}) {
+    std::vector<Tri> wall = cylinder(R, 0.0, H, n_seg, 0.0, 0.0);
+    double F_r = 0.0;
+    for (const Tri &t : wall) {
+      double n[3], c[3];
+      const double A = wall_triangle_geometry(t.p[0], t.p[1], t.p[2], 0.0, 0.0, n, c);
+      double az = std::atan2(c[1], c[0]) * 180.0 / kPi;
+      if (az < 0.0) az += 360.0;
+      if (az > theta) continue;              // outside the sector: no grains
+      double f[3];
+      for (int k = 0; k < 3; k++) f[k] = p * A * n[k];
+      F_r += element_radial_force(f, n);
+    }
+    const double half = kPi / n_seg;          // half the strip angle
+    const double expected = p * std::sin(half) / half;
+    EXPECT_NEAR(radial_stress(F_r, sector_arc_length(theta, R), H), expected, 1e-9 * p);
+    // and over the whole mesh perimeter it would be theta/360 of that
+    EXPECT_NEAR(radial_stress(F_r, polygon_perimeter(n_seg, R), H) / p, theta / 360.0, 1e-9);
+  }
+}
