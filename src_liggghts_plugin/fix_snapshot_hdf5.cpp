@@ -359,7 +359,11 @@ void FixSnapshotHdf5::post_create()
     own_pair_local_ = true;
   }
 
-  if (wall_local_id_.empty()) {
+  if (wall_local_id_ == "none") {
+    // no particle-wall contacts: a deck that must unfix its wall fix later
+    // cannot have a wall/gran/local (LIGGGHTS refuses the unfix)
+    wall_local_id_.clear();
+  } else if (wall_local_id_.empty()) {
     // LIGGGHTS' wall/gran/local attaches to the last fix wall/gran with mesh
     // walls; primitive walls (planes, cylinders) have no contact list
     bool mesh_wall = false;

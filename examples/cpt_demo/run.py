@@ -14,9 +14,7 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -26,11 +24,17 @@ import numpy as np  # noqa: E402
 
 from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
+from crushpost.packing import D50_NE34  # noqa: E402
+from crushpost.runner import run_liggghts  # noqa: E402
+from crushpost.snapshot import list_snapshots  # noqa: E402
+from crushpost.spheres import chamber_sphere_centres, read_sphere_series, write_sphere_block  # noqa: E402
 from crushpost.thermo import read_log  # noqa: E402
 from crushpost.trend import fit_qc_trend, qc_trend  # noqa: E402
 
 RHO = 2600.0
 JACK_COLUMNS = ("step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase", "cycle")
+OUTPUT_BLOCK = {"none": "none", "particles": "vtk_dumps", "contacts": "vtk_dumps_contacts"}
+SPHERE_RADIUS_D50 = 1.5            # measurement-sphere radius in d50
 
 
 def build(a, out):
@@ -39,8 +43,27 @@ def build(a, out):
     return c["n"], c["tip_z0"]
 
 
-def run_liggghts(a, out, tip_z0):
-    binary = a.liggghts or os.path.join(REPO, "build", "liggghts")
+SPHERE_R_OVER_R = (2.0,)          # measurement spheres at r = 2 R from the axis ...
+SPHERE_DEPTHS_R = (1.0, 2.5)       # ... at these depths below the initial apex, in R
+
+
+def sphere_azimuth(sector):
+    """Direction of the sphere row: inside the simulated sector."""
+    return {360: 0.0, 180: 90.0, 90: 45.0}[sector]
+
+
+def write_spheres(a, out, tip_z0):
+    """Measurement spheres (docs/measurement_spheres.md) beside the pile path;
+    returns (block file, number of spheres)."""
+    centres = chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in SPHERE_DEPTHS_R],
+                                     a.R_pile, tip_z0, azimuth_deg=sphere_azimuth(a.sector))
+    path = os.path.join(out, "spheres.in")
+    write_sphere_block(path, centres, SPHERE_RADIUS_D50 * D50_NE34 * a.N, a.jack_every * 10,
+                       "spheres.txt")
+    return path, len(centres)
+
+
+def run_deck(a, out, tip_z0):
     if a.mode == "cyclic":
         jack = ("mode cyclic v %g stroke %g v_unload %g pause %g depth %g zero_tol %g"
                 % (a.v_push, a.stroke, a.v_unload, a.pause, a.depth, a.zero_tol))
@@ -50,19 +73,15 @@ def run_liggghts(a, out, tip_z0):
          "R_pile": a.R_pile, "R_hole": hole_radius(a.R_pile), "sector": a.sector,
          "grain_model": a.grains, "seed": a.seed, "proc_grid": a.proc_grid,
          "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
-         "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every, "jack_every": a.jack_every}
-    cmd = ["mpirun", "--oversubscribe", "-np", str(a.np)]
-    if os.geteuid() == 0:
-        cmd.insert(1, "--allow-run-as-root")
-    cmd += [binary, "-in", os.path.join(HERE, "in.cpt"), "-log", "log.liggghts", "-screen", "none"]
-    for k, val in v.items():
-        cmd += ["-var", k, str(val)]
-    t0 = time.time()
-    rc = subprocess.call(cmd, cwd=out)
-    if rc != 0:
-        sys.stderr.write("cpt: LIGGGHTS failed (exit %d); see %s\n" % (rc, os.path.join(out, "log.liggghts")))
-        sys.exit(rc)
-    return time.time() - t0
+         "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every,
+         "jack_every": a.jack_every, "output_block": OUTPUT_BLOCK[a.vtk], "vtk_every": a.vtk_every}
+    if a.snapshots == "yes" or a.vtk == "contacts":
+        v["contacts_block"] = "contacts_local"
+    if a.snapshots == "yes":
+        v["snapshot_block"] = "snapshots_hdf5"
+    if a.spheres == "yes":
+        v["spheres_file"], _ = write_spheres(a, out, tip_z0)
+    return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts, name="cpt")
 
 
 def read_jack(path):
@@ -141,6 +160,21 @@ def postprocess(a, out, wall, n0, tip_z0):
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
         "plots": plots,
     }
+    snaps = list_snapshots(os.path.join(out, "snapshots", "jack"))
+    if snaps:
+        summary["snapshots"] = [os.path.relpath(path, out) for _, path in snaps]
+    sph = os.path.join(out, "spheres.txt")
+    if os.path.exists(sph):
+        centres = chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in SPHERE_DEPTHS_R],
+                                         a.R_pile, tip_z0, azimuth_deg=sphere_azimuth(a.sector))
+        steps, sigma = read_sphere_series(sph, len(centres))
+        summary["spheres"] = {
+            "file": "spheres.txt", "radius_m": SPHERE_RADIUS_D50 * D50_NE34 * a.N,
+            "centres_m": centres.tolist(),
+            "final_step": int(steps[-1]),
+            "final_mean_stress_kPa": [float(np.trace(sg) / 3e3) for sg in sigma[-1]],
+            "final_sigma_zz_kPa": [float(sg[2, 2] / 1e3) for sg in sigma[-1]],
+        }
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
@@ -177,10 +211,17 @@ def main(argv=None):
     p.add_argument("--seed", type=int, default=15485863)
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None)
+    p.add_argument("--snapshots", default="yes", choices=["yes", "no"],
+                   help="HDF5 snapshot of particles and contacts at the end of every push and pause")
+    p.add_argument("--spheres", default="yes", choices=["yes", "no"],
+                   help="measurement spheres beside the pile path (spheres.txt)")
+    p.add_argument("--vtk", default="none", choices=["none", "particles", "contacts"],
+                   help="VTK dumps for ParaView in post/: particles and meshes, or also the contact network")
+    p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
     a = p.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     n0, tip_z0 = build(a, a.out)
-    wall = run_liggghts(a, a.out, tip_z0)
+    wall = run_deck(a, a.out, tip_z0)
     print(json.dumps(postprocess(a, a.out, wall, n0, tip_z0), indent=2))
     return 0
 

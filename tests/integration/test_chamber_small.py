@@ -77,3 +77,42 @@ def test_no_particle_lost_and_mass_conserved(chamber):
                 "mass_balance_rel_error", "n_particles_initial", "n_particles_final",
                 "wall_time_s"):
         assert key in chamber["summary"]
+
+
+def test_snapshots_at_every_push_and_pause_end(chamber):
+    """One HDF5 snapshot each time the phase leaves push (0) or pause (2),
+    at the step where it changes (bracketed by the rows of jack.txt)."""
+    import h5py
+
+    j = chamber["jack"]
+    step, phase = j[:, 0], j[:, 6]
+    change = np.flatnonzero(phase[1:] != phase[:-1]) + 1
+    ends = [k for k in change if phase[k - 1] in (0, 2)]
+    snaps = sorted((chamber["out"] / "snapshots").glob("jack_*.h5"),
+                   key=lambda p: int(p.stem.split("_")[1]))
+    assert len(ends) >= 3 and len(snaps) == len(ends), (len(snaps), len(ends))
+    for k, path in zip(ends, snaps):
+        with h5py.File(path, "r") as f:
+            s = int(f.attrs["step"])
+            assert step[k - 1] < s <= step[k], (s, step[k - 1], step[k])
+            assert f.attrs["trigger_old"] == phase[k - 1]
+            n = f["particles/id"].shape[0]
+            assert n == len(np.unique(f["particles/id"][:]))
+            pp = f["contacts/pp/id"][:]
+            assert len(pp) > n                      # a packed sample: > 2 contacts per grain / 2
+            assert set(np.unique(pp)) <= set(f["particles/id"][:])
+            assert np.all(f["contacts/pp/overlap"][:] >= 0)  # in contact (touching counts)
+    assert chamber["summary"]["snapshots"] == [str(p.relative_to(chamber["out"])) for p in snaps]
+
+
+def test_measurement_spheres_read_the_chamber_stress(chamber):
+    """The spheres beside the pile path read, at the start of jacking, a mean
+    stress of the order of the boundary stress (sv + 2 sr) / 3 (they sit in a
+    small, wall-affected chamber: within a factor of 2)."""
+    from crushpost.spheres import read_sphere_series
+
+    sph = chamber["summary"]["spheres"]
+    steps, sigma = read_sphere_series(chamber["out"] / "spheres.txt", len(sph["centres_m"]))
+    p0 = np.trace(sigma[0], axis1=1, axis2=2) / 3.0
+    p_boundary = (SV + 2 * SR) / 3.0
+    assert np.all((p0 > 0.5 * p_boundary) & (p0 < 2.0 * p_boundary)), (p0, p_boundary)
