@@ -219,6 +219,7 @@ def main(argv=None):
                    help="VTK dumps for ParaView in post/: particles and meshes, or also the contact network")
     p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
     a = p.parse_args(argv)
+    a.out = os.path.abspath(a.out)          # LIGGGHTS runs in --out: paths given to it are absolute
     os.makedirs(a.out, exist_ok=True)
     n0, tip_z0 = build(a, a.out)
     wall = run_deck(a, a.out, tip_z0)
