@@ -106,3 +106,23 @@ include         ${{inputs}}/materials_ne34.in
 neighbor        0.002 bin
 timestep        1e-5
 """
+
+
+def run_error_cases(cases, tmp_path_factory, prepare):
+    """Run the decks of `cases` ({name: (deck, pattern)}) that must stop with an
+    ERROR containing `pattern`, a few at a time, each in its own folder made
+    ready by `prepare(folder)`. Returns {name: RunResult, or the exception
+    raised, which the test of that case re-raises}."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def one(workdir, deck, pattern):
+        prepare(workdir)
+        try:
+            return harness.expect_error(deck, workdir, pattern, timeout=120)
+        except Exception as exc:  # reported by the test of this case
+            return exc
+
+    with ThreadPoolExecutor(max_workers=8) as pool:
+        futures = {name: pool.submit(one, tmp_path_factory.mktemp(name), deck, pattern)
+                   for name, (deck, pattern) in cases.items()}
+        return {name: f.result() for name, f in futures.items()}

@@ -30,7 +30,6 @@ d. Bad input (negative or zero stroke, zero velocity, unknown mode, missing
 
 import math
 import sys
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -544,14 +543,6 @@ BAD_MOTION = [
 ]
 
 
-def _error_case(workdir, deck, pattern):
-    write_pile(workdir, TIP_A)
-    try:
-        return harness.expect_error(deck, workdir, pattern, timeout=120)
-    except Exception as exc:  # reported by the test of this case
-        return exc
-
-
 @pytest.fixture(scope="module")
 def error_runs(tmp_path_factory):
     cases = {}
@@ -561,10 +552,7 @@ def error_runs(tmp_path_factory):
         cases["mesh_" + name] = (ERROR_MESHES.format(inputs=INPUTS, mesh_args=args), pattern)
     for name, deck, pattern in BAD_MOTION:
         cases["motion_" + name] = (deck, pattern)
-    with ThreadPoolExecutor(max_workers=8) as pool:
-        futures = {name: pool.submit(_error_case, tmp_path_factory.mktemp(name), deck, pattern)
-                   for name, (deck, pattern) in cases.items()}
-        return {name: f.result() for name, f in futures.items()}
+    return pile_cell.run_error_cases(cases, tmp_path_factory, lambda wd: write_pile(wd, TIP_A))
 
 
 def _check_error(error_runs, key, pattern, source="fix jack/pile"):

@@ -42,7 +42,6 @@ g. a snapshot without contacts has empty tables with their row shapes, and
 
 import math
 import sys
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -478,14 +477,6 @@ BAD = [
 ]
 
 
-def _error_case(workdir, deck, pattern):
-    write_pile_stl(str(workdir), 0.004, 0.05, tip_z=0.1, n_seg=8)
-    try:
-        return harness.expect_error(deck, workdir, pattern, timeout=120)
-    except Exception as exc:  # reported by the test of this case
-        return exc
-
-
 @pytest.fixture(scope="module")
 def error_runs(tmp_path_factory):
     cases = {}
@@ -496,10 +487,8 @@ def error_runs(tmp_path_factory):
                     "check_motion no"
         deck = ERROR_DECK.format(inputs=INPUTS, before=before, args=args, after=after)
         cases[name] = (deck, pattern)
-    with ThreadPoolExecutor(max_workers=8) as pool:
-        futures = {name: pool.submit(_error_case, tmp_path_factory.mktemp(name), deck, pattern)
-                   for name, (deck, pattern) in cases.items()}
-        return {name: f.result() for name, f in futures.items()}
+    return pile_cell.run_error_cases(
+        cases, tmp_path_factory, lambda wd: write_pile_stl(str(wd), 0.004, 0.05, tip_z=0.1, n_seg=8))
 
 
 @pytest.mark.parametrize("name, args, before, expected", BAD, ids=[c[0] for c in BAD])
