@@ -34,6 +34,8 @@ def main(argv=None):
     p.add_argument("--expand-chunks", type=int, default=5, help="radius-expansion chunks of 2000 steps")
     p.add_argument("--grow-rate", type=float, default=1e-3)
     p.add_argument("--liggghts", default=os.path.join(REPO, "build", "liggghts"))
+    p.add_argument("--proc-grid", default=None,
+                   help="LIGGGHTS processors grid, e.g. '16 1 1' (default '* * 1', 1 1 1 at 1 rank)")
     a = p.parse_args(argv)
     dt, v = 1.5e-7, 0.5
     depth = a.jack_steps * v * dt
@@ -50,7 +52,7 @@ def main(argv=None):
         var = {"inputs": os.path.join(REPO, "inputs"), "deck_dir": HERE, "R_ch": a.R_ch, "H_ch": a.H_ch,
                "jack_args": "mode monotonic v %g depth %g" % (v, depth), "n_expand_max": a.expand_chunks,
                "grow_rate": a.grow_rate, "servo_steps": 3000, "jack_chunk": 2000, "output_block": "none",
-               "thermo_every": 1000, "proc_grid": "* * 1" if n > 1 else "1 1 1"}
+               "thermo_every": 1000, "proc_grid": a.proc_grid or ("* * 1" if n > 1 else "1 1 1")}
         for k, val in var.items():
             cmd += ["-var", k, str(val)]
         subprocess.run(cmd, check=True, cwd=a.out)
