@@ -65,7 +65,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
   count_pending_(false), count_local_(0), count_all_(0),
-  margin_skip_(true), full_scan_pending_(true), scanned_fraction_(1.0), scanned_since_full_(0.0),
+  margin_skip_(true), full_scan_pending_(true), scanned_since_full_(0.0),
   lists_scanned_(0.0), lists_total_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
   initialized_(false), maxtag_ever_(0), time_offset_(0.0), restart_time_(0.0),
@@ -463,12 +463,11 @@ void FixCrushParticle::find_candidates_pairs()
   for (int ii = 0; ii < inum; ii++) {
     const int i = ilist[ii];
     if (!full && margin_holds(d2_[i], D2, margin_[i])) continue;
-    pairs_scan(i, full, D2, D);
+    pairs_scan(i, D);
     scanned++;
   }
-  // a full scan starts afresh; after a partial one, the share decides
-  scanned_fraction_ = (full || inum == 0) ? 0.0 : (double)scanned / inum;
-  scanned_since_full_ = full ? 0.0 : scanned_since_full_ + scanned_fraction_;
+  // a full scan starts afresh; after a partial one, its share of the lists adds up
+  scanned_since_full_ = full ? 0.0 : scanned_since_full_ + (inum > 0 ? (double)scanned / inum : 0.0);
   lists_scanned_ += scanned;
   lists_total_ += inum;
 }
@@ -480,7 +479,7 @@ void FixCrushParticle::find_candidates_pairs()
    reference positions (|x_i - x0_i| exactly, the rank's largest for j).
 ------------------------------------------------------------------------- */
 
-void FixCrushParticle::pairs_scan(int i, bool full, double D2, double D)
+void FixCrushParticle::pairs_scan(int i, double D)
 {
   NeighList *list = pair_->list;
   double **x = atom->x;
@@ -523,8 +522,8 @@ void FixCrushParticle::pairs_scan(int i, bool full, double D2, double D)
   }
   if (margin_skip_) {
     // positions moved since x0 by at most sqrt(d2_i) (i) and D (any j); the
-    // margin must cover that too
-    margin_[i] = full ? B : B - sqrt(d2_[i]) - D;
+    // margin must cover that too (both 0 in a full scan)
+    margin_[i] = B - sqrt(d2_[i]) - D;
   }
 }
 

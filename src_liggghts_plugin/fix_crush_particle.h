@@ -80,18 +80,17 @@ class FixCrushParticle : public Fix {
 
   class Pair *pair_;
 
-  // Contact lists far from any limit are skipped (keyword margin_skip). The
-  // skip is exact: a list is looked at again before any pair in it can have
-  // reached a limit, from its margin and a bound on how far particles moved
-  // since the reference positions x0_ (taken at a full scan).
   // candidate count summed over ranks without blocking (see detect)
   bool count_pending_;
   int count_local_, count_all_;
   MPI_Request count_request_;
 
+  // Contact lists far from any limit are skipped (keyword margin_skip). The
+  // skip is exact: a list is looked at again before any pair in it can have
+  // reached a limit, from its margin and a bound on how far particles moved
+  // since the reference positions x0_ (taken at a full scan).
   bool margin_skip_;
   bool full_scan_pending_;     // after neighbour-list builds, setup, breaks
-  double scanned_fraction_;    // share of lists looked at in the last step
   // Lists rescanned since the last full scan, in units of all lists: once
   // that work equals one full scan, a full scan with fresh reference
   // positions is cheaper than going on (margins shrink as particles move).
@@ -99,7 +98,7 @@ class FixCrushParticle : public Fix {
   double lists_scanned_, lists_total_;  // since the fix was defined (output [7])
   std::vector<double> x0_, r0_, d2_;  // reference x, r; squared displacement
   std::vector<double> margin_;        // per owned particle: margin of its list
-  void pairs_scan(int i, bool full, double D2, double D);
+  void pairs_scan(int i, double D);
   std::vector<class FixWallGran *> walls_;
 
   // Contacts over the limit found at the end of a step, broken in the next
