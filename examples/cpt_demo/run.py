@@ -47,20 +47,24 @@ SPHERE_R_OVER_R = (2.0,)          # measurement spheres at r = 2 R from the axis
 SPHERE_DEPTHS_R = (1.0, 2.5)       # ... at these depths below the initial apex, in R
 
 
-def sphere_azimuth(sector):
-    """Direction of the sphere row: inside the simulated sector."""
-    return {360: 0.0, 180: 90.0, 90: 45.0}[sector]
+def sphere_centres(a, tip_z0):
+    """Measurement-sphere centres (n, 3) beside the pile path, on a radius
+    inside the simulated sector."""
+    azimuth = {360: 0.0, 180: 90.0, 90: 45.0}[a.sector]
+    return chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in SPHERE_DEPTHS_R],
+                                  a.R_pile, tip_z0, azimuth_deg=azimuth)
+
+
+def sphere_radius(a):
+    return SPHERE_RADIUS_D50 * D50_NE34 * a.N
 
 
 def write_spheres(a, out, tip_z0):
-    """Measurement spheres (docs/measurement_spheres.md) beside the pile path;
-    returns (block file, number of spheres)."""
-    centres = chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in SPHERE_DEPTHS_R],
-                                     a.R_pile, tip_z0, azimuth_deg=sphere_azimuth(a.sector))
+    """The measurement-sphere block (docs/measurement_spheres.md); returns its path."""
     path = os.path.join(out, "spheres.in")
-    write_sphere_block(path, centres, SPHERE_RADIUS_D50 * D50_NE34 * a.N, a.jack_every * 10,
+    write_sphere_block(path, sphere_centres(a, tip_z0), sphere_radius(a), a.jack_every * 10,
                        "spheres.txt")
-    return path, len(centres)
+    return path
 
 
 def run_deck(a, out, tip_z0):
@@ -80,7 +84,7 @@ def run_deck(a, out, tip_z0):
     if a.snapshots == "yes":
         v["snapshot_block"] = "snapshots_hdf5"
     if a.spheres == "yes":
-        v["spheres_file"], _ = write_spheres(a, out, tip_z0)
+        v["spheres_file"] = write_spheres(a, out, tip_z0)
     return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts, name="cpt")
 
 
@@ -165,11 +169,10 @@ def postprocess(a, out, wall, n0, tip_z0):
         summary["snapshots"] = [os.path.relpath(path, out) for _, path in snaps]
     sph = os.path.join(out, "spheres.txt")
     if os.path.exists(sph):
-        centres = chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in SPHERE_DEPTHS_R],
-                                         a.R_pile, tip_z0, azimuth_deg=sphere_azimuth(a.sector))
+        centres = sphere_centres(a, tip_z0)
         steps, sigma = read_sphere_series(sph, len(centres))
         summary["spheres"] = {
-            "file": "spheres.txt", "radius_m": SPHERE_RADIUS_D50 * D50_NE34 * a.N,
+            "file": "spheres.txt", "radius_m": sphere_radius(a),
             "centres_m": centres.tolist(),
             "final_step": int(steps[-1]),
             "final_mean_stress_kPa": [float(np.trace(sg) / 3e3) for sg in sigma[-1]],

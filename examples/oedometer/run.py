@@ -45,14 +45,13 @@ def build(args, out):
 
 
 def run_deck(args, out, R, H):
-    binary = args.liggghts
     v = {"inputs": os.path.join(REPO, "inputs"), "N": args.N, "R_cell": R, "H_cell": H,
          "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
          "seed": args.seed, "dt": args.dt, "v_load": args.v_load, "sv_max": args.sv_max,
          "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
          "n_expand_max": args.prep_loops, "grow_rate": args.grow_rate}
-    return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np, binary=binary,
-                        name="oedometer")
+    return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np,
+                        binary=args.liggghts, name="oedometer")
 
 
 def postprocess(args, out, wall, n0):

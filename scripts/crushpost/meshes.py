@@ -82,6 +82,14 @@ def axis_plate_triangles(half_width, axis, offset=0.0):
     return [(pts[0], pts[1], pts[2]), (pts[0], pts[2], pts[3])]
 
 
+def _arc_segments(n_seg, phi0, phi1):
+    """Start and end angles (radians) of the n_seg equal segments of the arc
+    from azimuth phi0 to phi1 (degrees)."""
+    span = math.radians(phi1 - phi0)
+    return [(math.radians(phi0) + span * k / n_seg, math.radians(phi0) + span * (k + 1) / n_seg)
+            for k in range(n_seg)]
+
+
 def cylinder_triangles(radius, z_lo, z_hi, n_seg, center=(0.0, 0.0), inward=True,
                        phi0=0.0, phi1=360.0):
     """Lateral surface of a cylinder with its axis along z through ``center``:
@@ -92,13 +100,9 @@ def cylinder_triangles(radius, z_lo, z_hi, n_seg, center=(0.0, 0.0), inward=True
     servo/radial, which needs exactly this shape. ``phi0``, ``phi1`` (degrees,
     default the full circle): an arc of the cylinder from azimuth phi0 to phi1
     (``n_seg`` strips over the arc), the side wall of a chamber sector."""
-    import math
     x0, y0 = center
-    span = math.radians(phi1 - phi0)
     tris = []
-    for k in range(n_seg):
-        a0 = math.radians(phi0) + span * k / n_seg
-        a1 = math.radians(phi0) + span * (k + 1) / n_seg
+    for a0, a1 in _arc_segments(n_seg, phi0, phi1):
         b0 = (x0 + radius * math.cos(a0), y0 + radius * math.sin(a0), z_lo)
         b1 = (x0 + radius * math.cos(a1), y0 + radius * math.sin(a1), z_lo)
         t0 = (b0[0], b0[1], z_hi)
@@ -247,13 +251,9 @@ def annulus_triangles(r_in, r_out, z, n_seg, center=(0.0, 0.0), phi0=0.0, phi1=3
     a platen with a hole for the pile (calibration chamber top wall).
     ``phi0``, ``phi1`` (degrees): only the part from azimuth phi0 to phi1
     (the top wall of a chamber sector)."""
-    import math
     x0, y0 = center
-    span = math.radians(phi1 - phi0)
     tris = []
-    for k in range(n_seg):
-        a0 = math.radians(phi0) + span * k / n_seg
-        a1 = math.radians(phi0) + span * (k + 1) / n_seg
+    for a0, a1 in _arc_segments(n_seg, phi0, phi1):
         i0 = (x0 + r_in * math.cos(a0), y0 + r_in * math.sin(a0), z)
         i1 = (x0 + r_in * math.cos(a1), y0 + r_in * math.sin(a1), z)
         o0 = (x0 + r_out * math.cos(a0), y0 + r_out * math.sin(a0), z)
