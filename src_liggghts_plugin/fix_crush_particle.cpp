@@ -74,7 +74,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   margin_skip_(true), full_scan_pending_(true), scanned_since_full_(0.0),
   lists_scanned_(0.0), lists_total_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
-  initialized_(false), maxtag_ever_(0), time_offset_(0.0), restart_time_(0.0),
+  initialized_(false), maxtag_ever_(0), natoms_counted_(0), time_offset_(0.0), restart_time_(0.0),
   restart_time_pending_(false), cache_step_(-1)
 {
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -369,6 +369,7 @@ void FixCrushParticle::setup(int)
   for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
   MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
   maxtag_ever_ = std::max(maxtag_ever_, maxtag_all);
+  count_atoms();  // losses are looked for from here on (see check_atom_count)
   check_timestep();
   // Contacts over the limit at the end of the previous run (or in the state
   // read from a restart file) break at the first step, as in one long run.
@@ -821,6 +822,7 @@ void FixCrushParticle::break_particles()
   n_created_ += sums_all[1];
   n_events_ += sums_all[2];
   atom->natoms += (bigint)(sums_all[1] - sums_all[2]);
+  natoms_counted_ += (bigint)(sums_all[1] - sums_all[2]);
   maxtag_ever_ = (int)next;
   if (atom->map_style) {
     atom->nghost = 0;
@@ -835,31 +837,32 @@ void FixCrushParticle::break_particles()
    LIGGGHTS 3.8 checks for lost atoms only at thermo output, by comparing the
    atom count with the previous output, and a break adds 13 atoms: a grain
    lost in the same interval would go unnoticed (and `lost ignore` hides it
-   anyway). The fix keeps atom->natoms exact for what it creates and deletes,
-   so before each break (only then: no cost on other steps) the atoms present
-   must number atom->natoms. A lost grain would also make the mass balance
-   and Br wrong.
+   anyway). atom->natoms cannot tell either: Comm::exchange resets it to the
+   count present. So the fix keeps its own count, taken at setup and advanced
+   by what it creates and deletes, and checks it before each break (only then:
+   no cost on other steps). More atoms than counted (e.g. inserted by another
+   fix) are taken as they are; fewer are an error. A lost grain would also make
+   the mass balance and Br wrong.
 ------------------------------------------------------------------------- */
+
+void FixCrushParticle::count_atoms()
+{
+  bigint nlocal = atom->nlocal;
+  MPI_Allreduce(&nlocal, &natoms_counted_, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+}
 
 void FixCrushParticle::check_atom_count()
 {
-  bigint nlocal = atom->nlocal, ntotal = 0;
-  MPI_Allreduce(&nlocal, &ntotal, 1, MPI_LMP_BIGINT, MPI_SUM, world);
-  if (ntotal == atom->natoms) return;
+  const bigint expected = natoms_counted_;
+  count_atoms();
+  if (natoms_counted_ >= expected) return;
   char msg[512];
-  if (ntotal < atom->natoms)
-    snprintf(msg, sizeof(msg),
-             "fix crush/particle: " BIGINT_FORMAT " atoms lost before step " BIGINT_FORMAT
-             " (expected " BIGINT_FORMAT ", found " BIGINT_FORMAT "): grains left the simulation "
-             "box or were deleted without updating the atom count; the deck must not lose grains "
-             "(the mass balance and Br count every grain)",
-             atom->natoms - ntotal, update->ntimestep, atom->natoms, ntotal);
-  else
-    snprintf(msg, sizeof(msg),
-             "fix crush/particle: " BIGINT_FORMAT " atoms more than counted before step " BIGINT_FORMAT
-             " (expected " BIGINT_FORMAT ", found " BIGINT_FORMAT "): atoms were added without "
-             "updating the atom count",
-             ntotal - atom->natoms, update->ntimestep, atom->natoms, ntotal);
+  snprintf(msg, sizeof(msg),
+           "fix crush/particle: " BIGINT_FORMAT " atoms lost before step " BIGINT_FORMAT
+           " (expected " BIGINT_FORMAT ", found " BIGINT_FORMAT "): grains left the simulation "
+           "box or were deleted during the run; the deck must not lose grains (the mass balance "
+           "and Br count every grain)",
+           expected - natoms_counted_, update->ntimestep, expected, natoms_counted_);
   error->all(FLERR, msg);
 }
 

@@ -122,6 +122,7 @@ class FixCrushParticle : public Fix {
   std::vector<double> J0_, J_fines_, U_;
   bool initialized_;
   int maxtag_ever_;
+  bigint natoms_counted_;  // atoms present at setup + created - deleted by breaks
   double time_offset_;  // restores the simulation time after read_restart
   double restart_time_;
   bool restart_time_pending_;
@@ -141,6 +142,7 @@ class FixCrushParticle : public Fix {
   void find_candidates_pairs();
   void find_candidates_walls();
   void break_particles();
+  void count_atoms();
   void check_atom_count();
   void write_events(const std::vector<double> &local_records, int nrec_local);
   void check_timestep();
