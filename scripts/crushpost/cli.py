@@ -151,7 +151,8 @@ def build_parser():
     br.add_argument("--w", type=float, default=W_FRACTAL,
                     help="fractal dimension of the limit grading (default 2.6)")
     br.add_argument("--density", type=float, default=2600.0,
-                    help="particle density [kg/m^3] when the dump has no mass column")
+                    help="particle density [kg/m^3] when the dump has no mass column, "
+                    "and of the broken grains of --events")
     br.add_argument("--events", help="event log of fix crush/particle (keyword 'events'): "
                     "the fines of each break get the size range of their parent")
     br.add_argument("--fines-grading", choices=("fractal", "d_min"), default="fractal",
