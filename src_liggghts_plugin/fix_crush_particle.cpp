@@ -40,7 +40,13 @@ using namespace CrushKernels;
 
 namespace {
 
+// restart: 9 counters, then (format 2) the Br settings and kBrBins values of
+// J0 and of the fines (see write_restart)
 const int kRestartGlobalSize = 9;
+const int kRestartBrSettings = 5;
+// list[5] of the restart record: 0 not initialised, 1 initialised (files
+// written before the Br bins, no bins follow), 2 initialised with the bins
+const double kRestartFormatBins = 2.0;
 // one event record: step time tag d x y z F_n F_lim partner generation
 const int kEventRecord = 11;
 
@@ -61,14 +67,14 @@ std::string str(const char *a) { return std::string(a ? a : ""); }
 FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   sigma_lim0_(-1), m_(-1), d0_(-1), scale_N_(-1), var_(-1), d_comm_(-1), seed_(0),
-  d_max_(-1), d_min_(-1), omega_(2.6), d_frag_min_(0.0),
+  d_max_(-1), d_min_(-1), omega_(2.6), fines_fractal_(true), d_frag_min_(0.0),
   dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
   count_pending_(false), count_local_(0), count_all_(0),
   margin_skip_(true), full_scan_pending_(true), scanned_since_full_(0.0),
   lists_scanned_(0.0), lists_total_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
-  initialized_(false), maxtag_ever_(0), time_offset_(0.0), restart_time_(0.0),
+  initialized_(false), maxtag_ever_(0), natoms_counted_(0), time_offset_(0.0), restart_time_(0.0),
   restart_time_pending_(false), cache_step_(-1)
 {
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -87,7 +93,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 2;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 8;
   global_freq = 1;
   extvector = 0;
 
@@ -124,7 +130,8 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   while (iarg < narg) {
     const std::string key = arg[iarg];
     // keywords without a numeric value
-    if (key == "events" || key == "dt_check" || key == "events_append" || key == "margin_skip") {
+    if (key == "events" || key == "dt_check" || key == "events_append" || key == "margin_skip" ||
+        key == "fines_grading") {
       if (iarg + 2 > narg)
         error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
       if (key == "events") {
@@ -138,6 +145,12 @@ void FixCrushParticle::parse_args(int narg, char **arg)
         else if (v == "no") flag = false;
         else
           error->all(FLERR, ("fix crush/particle: keyword '" + key + "' must be 'yes' or 'no', got '" + v + "'").c_str());
+      } else if (key == "fines_grading") {
+        const std::string v = arg[iarg + 1];
+        if (v == "fractal") fines_fractal_ = true;
+        else if (v == "d_min") fines_fractal_ = false;
+        else
+          error->all(FLERR, ("fix crush/particle: keyword 'fines_grading' must be 'fractal' or 'd_min', got '" + v + "'").c_str());
       } else {
         const std::string v = arg[iarg + 1];
         if (v == "warn") dt_check_error_ = false;
@@ -162,7 +175,8 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     if (!known)
       error->all(FLERR, ("fix crush/particle: unknown keyword '" + key +
                          "'; expected sigma_lim0, m, d0, scale, var, d_comm, seed, br, d_max, "
-                         "d_min, omega, d_frag_min, events, events_append, dt_check, dt_frac, margin_skip").c_str());
+                         "d_min, omega, fines_grading, d_frag_min, events, events_append, dt_check, dt_frac, "
+                         "margin_skip").c_str());
     if (iarg + 2 > narg)
       error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
     char *end = NULL;
@@ -211,6 +225,11 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   if (!have_br_dmin) d_min_ = 0.01e-3 * scale_N_;
   if (!(d_max_ > d_min_))
     error->all(FLERR, "fix crush/particle: keyword 'd_max' must be larger than 'd_min'");
+
+  J0_.assign(kBrBins, 0.0);
+  J_fines_.assign(kBrBins, 0.0);
+  U_.assign(kBrBins, 0.0);
+  br_limit_bins(omega_, br_grid(d_min_, d_max_), &U_[0]);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -313,17 +332,25 @@ void FixCrushParticle::setup(int)
   }
   assign_missing_strengths();
   if (!initialized_) {
-    // initial solid mass and initial grading F0 (SPEC: Br relative to the start)
-    double local[2] = {0.0, 0.0}, global[2];
+    // initial solid mass and initial grading F0 (SPEC: Br relative to the
+    // start), per Br size bin: [0] mass, [1] unbinned integral, then the
+    // particle histogram (crush_breakage_index_kernel.h)
+    const BrGrid grid = br_grid(d_min_, d_max_);
+    const int nh = 2 * grid.n + 1;
+    std::vector<double> local(2 + nh, 0.0), global(2 + nh);
     const int nlocal = atom->nlocal;
     for (int i = 0; i < nlocal; i++) {
       if (!(atom->mask[i] & groupbit)) continue;
       local[0] += atom->rmass[i];
       local[1] += breakage_integral_term(atom->rmass[i], 2.0 * atom->radius[i], d_min_, d_max_);
+      br_histogram_add(atom->rmass[i], 2.0 * atom->radius[i], grid, &local[2]);
     }
-    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(&local[0], &global[0], 2 + nh, MPI_DOUBLE, MPI_SUM, world);
     mass0_ = global[0];
     integral0_ = (global[0] > 0.0) ? global[1] / global[0] : 0.0;
+    J0_.assign(grid.n, 0.0);
+    br_histogram_integrals(&global[2], grid, &J0_[0]);
+    for (int b = 0; b < grid.n; b++) J0_[b] = (global[0] > 0.0) ? J0_[b] / global[0] : 0.0;
     initialized_ = true;
 
     double dmax_local = 0.0, dmax_all;
@@ -334,7 +361,7 @@ void FixCrushParticle::setup(int)
       char msg[256];
       snprintf(msg, sizeof(msg),
                "fix crush/particle: grains up to d = %g exceed the Br grading limit d_max = %g; "
-               "Br counts them as d_max and can exceed 1 (set 'd_max')", dmax_all, d_max_);
+               "Br sees them as d_max: their breakage into sizes still above d_max does not count (set 'd_max')", dmax_all, d_max_);
       error->warning(FLERR, msg);
     }
   }
@@ -342,6 +369,7 @@ void FixCrushParticle::setup(int)
   for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
   MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
   maxtag_ever_ = std::max(maxtag_ever_, maxtag_all);
+  count_atoms();  // losses are looked for from here on (see check_atom_count)
   check_timestep();
   // Contacts over the limit at the end of the previous run (or in the state
   // read from a restart file) break at the first step, as in one long run.
@@ -656,6 +684,7 @@ void FixCrushParticle::pre_exchange()
 
 void FixCrushParticle::break_particles()
 {
+  check_atom_count();
   const int nprocs = comm->nprocs;
   int nlocal = atom->nlocal;
 
@@ -711,7 +740,10 @@ void FixCrushParticle::break_particles()
   if (next > 2147483647L)
     error->all(FLERR, "fix crush/particle: atom IDs would exceed the 32-bit limit");
 
-  // create fragments
+  // create fragments; sums[0..2] fines mass, fragments, events, then the
+  // fines' Br bin integrals (summed over ranks below)
+  const BrGrid grid = br_grid(d_min_, d_max_);
+  std::vector<double> sums(3 + grid.n, 0.0), sums_all(3 + grid.n);
   double fines_local = 0.0, created_local = 0.0;
   std::vector<double> records;
   double frag_r[kFragments], frag_off[kFragments][3], R[3][3];
@@ -741,6 +773,7 @@ void FixCrushParticle::break_particles()
 
     apollonian_fragments(r, frag_r, frag_off);
     event_rotation(seed_, (uint64_t)tag_i, R);
+    const double m_parent = atom->rmass[i];
     double mass_kept = 0.0;
     for (int f = 0; f < kFragments; f++) {
       if (2.0 * frag_r[f] < d_frag_min_) continue;
@@ -764,7 +797,12 @@ void FixCrushParticle::break_particles()
       assign_strength(m);
       created_local += 1.0;
     }
-    fines_local += atom->rmass[i] - mass_kept;
+    fines_local += m_parent - mass_kept;
+    // fines of this break into the Br bins (the fragment masses as created)
+    const double m1 = 4.0 * kPi / 3.0 * (r1 * r) * (r1 * r) * (r1 * r) * rho;
+    const double m2 = 4.0 * kPi / 3.0 * (r2 * r) * (r2 * r) * (r2 * r) * rho;
+    br_add_break_fines(fines_fractal_, 2.0 * r, m_parent, r1, r2, m1, m2, 2.0 * (r1 * r) >= d_frag_min_,
+                       2.0 * (r2 * r) >= d_frag_min_, omega_, grid, &sums[3]);
   }
 
   // delete parents, highest index first so the remaining indices stay valid
@@ -775,12 +813,16 @@ void FixCrushParticle::break_particles()
     atom->nlocal--;
   }
 
-  double sums[3] = {fines_local, created_local, (double)np_local}, sums_all[3];
-  MPI_Allreduce(sums, sums_all, 3, MPI_DOUBLE, MPI_SUM, world);
+  sums[0] = fines_local;
+  sums[1] = created_local;
+  sums[2] = (double)np_local;
+  MPI_Allreduce(&sums[0], &sums_all[0], 3 + grid.n, MPI_DOUBLE, MPI_SUM, world);
+  for (int b = 0; b < grid.n; b++) J_fines_[b] += sums_all[3 + b];
   fines_mass_ += sums_all[0];
   n_created_ += sums_all[1];
   n_events_ += sums_all[2];
   atom->natoms += (bigint)(sums_all[1] - sums_all[2]);
+  natoms_counted_ += (bigint)(sums_all[1] - sums_all[2]);
   maxtag_ever_ = (int)next;
   if (atom->map_style) {
     atom->nghost = 0;
@@ -789,6 +831,39 @@ void FixCrushParticle::break_particles()
   }
 
   write_events(records, np_local);
+}
+
+/* ----------------------------------------------------------------------
+   LIGGGHTS 3.8 checks for lost atoms only at thermo output, by comparing the
+   atom count with the previous output, and a break adds 13 atoms: a grain
+   lost in the same interval would go unnoticed (and `lost ignore` hides it
+   anyway). atom->natoms cannot tell either: Comm::exchange resets it to the
+   count present. So the fix keeps its own count, taken at setup and advanced
+   by what it creates and deletes, and checks it before each break (only then:
+   no cost on other steps). More atoms than counted (e.g. inserted by another
+   fix) are taken as they are; fewer are an error. A lost grain would also make
+   the mass balance and Br wrong.
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::count_atoms()
+{
+  bigint nlocal = atom->nlocal;
+  MPI_Allreduce(&nlocal, &natoms_counted_, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+}
+
+void FixCrushParticle::check_atom_count()
+{
+  const bigint expected = natoms_counted_;
+  count_atoms();
+  if (natoms_counted_ >= expected) return;
+  char msg[512];
+  snprintf(msg, sizeof(msg),
+           "fix crush/particle: " BIGINT_FORMAT " atoms lost before step " BIGINT_FORMAT
+           " (expected " BIGINT_FORMAT ", found " BIGINT_FORMAT "): grains left the simulation "
+           "box or were deleted during the run; the deck must not lose grains (the mass balance "
+           "and Br count every grain)",
+           expected - natoms_counted_, update->ntimestep, expected, natoms_counted_);
+  error->all(FLERR, msg);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -814,7 +889,8 @@ void FixCrushParticle::write_events(const std::vector<double> &local_records, in
   std::sort(order.begin(), order.end());
   for (size_t q = 0; q < order.size(); q++) {
     const double *e = &all[order[q].second * kEventRecord];
-    fprintf(events_, "%.0f %.10g %.0f %.10g %.10g %.10g %.10g %.10g %.10g %s %.0f\n", e[0], e[1], e[2], e[3],
+    // the diameter in full precision: Br can be recomputed from this file
+    fprintf(events_, "%.0f %.10g %.0f %.17g %.10g %.10g %.10g %.10g %.10g %s %.0f\n", e[0], e[1], e[2], e[3],
             e[4], e[5], e[6], e[7], e[8], e[9] == PARTNER_WALL ? "wall" : "particle", e[10]);
   }
   fflush(events_);
@@ -822,29 +898,46 @@ void FixCrushParticle::write_events(const std::vector<double> &local_records, in
 
 /* ---------------------------------------------------------------------- */
 
+// Called for thermo (and other) output only: one histogram of the particles
+// per rank, summed with one MPI_Allreduce (2 kBrBins + 4 doubles).
 void FixCrushParticle::compute_globals()
 {
   if (cache_step_ == update->ntimestep) return;
-  double local[4] = {0.0, 0.0, lists_scanned_, lists_total_}, global[4];
+  const BrGrid grid = br_grid(d_min_, d_max_);
+  const int nh = 2 * grid.n + 1;
+  // [0] particle mass, [1] lists scanned, [2] lists total, [3...] histogram
+  std::vector<double> local(3 + nh, 0.0), global(3 + nh);
+  local[1] = lists_scanned_;
+  local[2] = lists_total_;
   double rmin_local = 1e300, rmin_all;
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
     local[0] += atom->rmass[i];
-    local[1] += breakage_integral_term(atom->rmass[i], 2.0 * atom->radius[i], d_min_, d_max_);
+    br_histogram_add(atom->rmass[i], 2.0 * atom->radius[i], grid, &local[3]);
     rmin_local = std::min(rmin_local, atom->radius[i]);
   }
-  MPI_Allreduce(local, global, 4, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&local[0], &global[0], 3 + nh, MPI_DOUBLE, MPI_SUM, world);
   MPI_Allreduce(&rmin_local, &rmin_all, 1, MPI_DOUBLE, MPI_MIN, world);
+
+  // bin integrals of the current grading: particles plus fines, over the total mass
   const double M = global[0] + fines_mass_;
-  const double I = (M > 0.0) ? (global[1] + fines_mass_ * log(d_max_ / d_min_)) / M : 0.0;
+  std::vector<double> J(J_fines_);
+  br_histogram_integrals(&global[3], grid, &J[0]);
+  double I = 0.0, I0 = 0.0;
+  for (int b = 0; b < grid.n; b++) {
+    J[b] = (M > 0.0) ? J[b] / M : 0.0;
+    I += J[b];
+    I0 += J0_[b];
+  }
   cache_[0] = n_events_;
   cache_[1] = n_created_;
   cache_[2] = fines_mass_;
   cache_[3] = global[0];
-  cache_[4] = breakage_index(I, integral0_, fractal_grading_integral(d_min_, d_max_, omega_));
+  cache_[4] = bounded_breakage_index(&J[0], &J0_[0], &U_[0], grid.n);
   cache_[5] = (rmin_all < 1e299) ? rmin_all : 0.0;
-  cache_[6] = (global[3] > 0.0) ? global[2] / global[3] : 0.0;
+  cache_[6] = (global[2] > 0.0) ? global[1] / global[2] : 0.0;
+  cache_[7] = breakage_index(I, I0, fractal_grading_integral(d_min_, d_max_, omega_));
   cache_step_ = update->ntimestep;
 }
 
@@ -920,15 +1013,26 @@ int FixCrushParticle::size_restart(int) { return 3; }
    global state in restart files
 ------------------------------------------------------------------------- */
 
+// Layout: the 9 counters of the first format, then the Br settings the bins
+// depend on (d_min, d_max, omega, fines_grading, number of bins), J0 and the
+// fines' bin integrals (kBrBins each). list[5]: 0 not initialised, 1 the
+// first format (no bins follow), 2 bins follow. Builds of the first format
+// read a new file as before (they ignore what follows the counters).
 void FixCrushParticle::write_restart(FILE *fp)
 {
-  double list[kRestartGlobalSize] = {n_events_, n_created_, fines_mass_, mass0_, integral0_,
-                                     initialized_ ? 1.0 : 0.0, (double)maxtag_ever_, (double)seed_,
-                                     current_time()};
+  const int off = kRestartGlobalSize + kRestartBrSettings;
+  std::vector<double> list(off + 2 * kBrBins);
+  const double head[kRestartGlobalSize + kRestartBrSettings] = {
+      n_events_, n_created_, fines_mass_, mass0_, integral0_,
+      initialized_ ? kRestartFormatBins : 0.0, (double)maxtag_ever_, (double)seed_, current_time(),
+      d_min_, d_max_, omega_, fines_fractal_ ? 1.0 : 0.0, (double)kBrBins};
+  std::copy(head, head + off, list.begin());
+  std::copy(J0_.begin(), J0_.end(), list.begin() + off);
+  std::copy(J_fines_.begin(), J_fines_.end(), list.begin() + off + kBrBins);
   if (comm->me == 0) {
-    int size = kRestartGlobalSize * sizeof(double);
+    int size = (int)list.size() * sizeof(double);
     fwrite(&size, sizeof(int), 1, fp);
-    fwrite(list, sizeof(double), kRestartGlobalSize, fp);
+    fwrite(&list[0], sizeof(double), list.size(), fp);
   }
 }
 
@@ -941,6 +1045,29 @@ void FixCrushParticle::restart(char *buf)
   mass0_ = list[3];
   integral0_ = list[4];
   initialized_ = list[5] > 0.5;
+  if (initialized_ && list[5] != kRestartFormatBins)
+    // The binned initial grading cannot be rebuilt from the old record.
+    error->all(FLERR, "fix crush/particle: the restart file was written by a version without Br size "
+                      "bins (before fines_grading); its initial grading per bin is missing, so Br cannot "
+                      "be continued. Continue that run with the version that wrote it, or start from a "
+                      "data file");
+  if (list[5] == kRestartFormatBins) {
+    const double *br = list + kRestartGlobalSize;
+    // the stored bins hold only for the settings they were made with
+    if (br[0] != d_min_ || br[1] != d_max_ || br[2] != omega_ || (br[3] > 0.5) != fines_fractal_ ||
+        (int)br[4] != kBrBins) {
+      char msg[512];
+      snprintf(msg, sizeof(msg),
+               "fix crush/particle: the Br settings differ from those in the restart file "
+               "(d_min %g, d_max %g, omega %g, fines_grading %s); give the same 'd_min', 'd_max', "
+               "'omega' and 'fines_grading' to continue the run",
+               br[0], br[1], br[2], br[3] > 0.5 ? "fractal" : "d_min");
+      error->all(FLERR, msg);
+    }
+    const int off = kRestartGlobalSize + kRestartBrSettings;
+    J0_.assign(list + off, list + off + kBrBins);
+    J_fines_.assign(list + off + kBrBins, list + off + 2 * kBrBins);
+  }
   maxtag_ever_ = (int)list[6];
   // LIGGGHTS 3.8 restarts its clock at 0: the offset is set at the next setup
   restart_time_ = list[8];

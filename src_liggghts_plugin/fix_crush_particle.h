@@ -61,6 +61,7 @@ class FixCrushParticle : public Fix {
   double sigma_lim0_, m_, d0_, scale_N_, var_, d_comm_;
   uint64_t seed_;
   double d_max_, d_min_, omega_;  // Br limit grading
+  bool fines_fractal_;            // fines_grading fractal (true) or d_min
   double d_frag_min_;             // fragments finer than this go to fines
   bool dt_check_error_;
   double dt_frac_;
@@ -115,15 +116,20 @@ class FixCrushParticle : public Fix {
   // global counters, kept in restart files
   double n_events_, n_created_, fines_mass_;
   double mass0_, integral0_;  // initial solid mass and Br integral of F0
+  // Br size bins (crush_breakage_index_kernel.h): integrals of F0 over each
+  // bin (normalised), of the fines (unnormalised, summed over ranks at every
+  // break) and of the limit grading
+  std::vector<double> J0_, J_fines_, U_;
   bool initialized_;
   int maxtag_ever_;
+  bigint natoms_counted_;  // atoms present at setup + created - deleted by breaks
   double time_offset_;  // restores the simulation time after read_restart
   double restart_time_;
   bool restart_time_pending_;
 
   // cache for compute_vector
   bigint cache_step_;
-  double cache_[7];
+  double cache_[8];
 
   void parse_args(int narg, char **arg);
   void assign_strength(int i);
@@ -136,6 +142,8 @@ class FixCrushParticle : public Fix {
   void find_candidates_pairs();
   void find_candidates_walls();
   void break_particles();
+  void count_atoms();
+  void check_atom_count();
   void write_events(const std::vector<double> &local_records, int nrec_local);
   void check_timestep();
   void compute_globals();

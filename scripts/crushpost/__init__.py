@@ -13,9 +13,10 @@ Pure functions on numpy arrays; see each module for units and conventions.
 * :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres}``.
 """
 
-from .breakage import (W_FRACTAL, Breakage, breakage, breakage_index,
+from .breakage import (N_BINS, W_FRACTAL, Breakage, BreakFines, bin_integrals,
+                       bounded_breakage_index, break_fines, breakage, breakage_index,
                        fractal_grading_integral, fractal_psd, grading_integral,
-                       psd_curve, sphere_mass)
+                       limit_bin_integrals, psd_curve, sphere_mass)
 from .dump import CRUSH_LOG_COLUMNS, iter_dump, read_crush_log, read_dump
 from .snapshot import (list_snapshots, read_snapshot, read_snapshots,
                        snapshot_particle_stress)
@@ -26,8 +27,10 @@ from .thermo import concat_blocks, parse_log, read_log, summarize
 from .trend import QcFit, fit_qc_trend, qc_trend
 
 __all__ = [
-    "W_FRACTAL", "Breakage", "breakage", "breakage_index", "fractal_grading_integral",
-    "fractal_psd", "grading_integral", "psd_curve", "sphere_mass",
+    "N_BINS", "W_FRACTAL", "Breakage", "BreakFines", "bin_integrals",
+    "bounded_breakage_index", "break_fines", "breakage", "breakage_index",
+    "fractal_grading_integral", "fractal_psd", "grading_integral", "limit_bin_integrals",
+    "psd_curve", "sphere_mass",
     "CRUSH_LOG_COLUMNS", "iter_dump", "read_crush_log", "read_dump",
     "list_snapshots", "read_snapshot", "read_snapshots", "snapshot_particle_stress",
     "Invariants", "cylindrical_basis", "invariants", "pair_contact_terms",

@@ -6,8 +6,8 @@ import sys
 
 import numpy as np
 
-from .breakage import W_FRACTAL, breakage, sphere_mass
-from .dump import read_dump
+from .breakage import W_FRACTAL, break_fines, breakage, sphere_mass
+from .dump import read_crush_log, read_dump
 from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
@@ -38,18 +38,36 @@ def _cmd_br(args):
     init = init_snaps[args.initial_snapshot]
     d, m = _grading(now, args.density)
     d0, m0 = _grading(init, args.density)
-    if args.fines_mass is None:
-        # Exact mass accounting: what the particles lost since the start is fines.
-        fines = max(0.0, float(m0.sum()) + args.initial_fines_mass - float(m.sum()))
-    else:
-        fines = args.fines_mass
     d_min = args.d_min if args.d_min is not None else D_MIN_REAL * args.N
     d_max = args.d_max if args.d_max is not None else D_MAX_REAL * args.N
-    res = breakage(d, m, d0, m0, d_min, d_max, m_fines=fines,
-                   m_fines_initial=args.initial_fines_mass, w=args.w)
+    fines_events, m_fines = None, 0.0
+    if args.events:
+        if args.fines_mass is not None:
+            raise ValueError("give either --events or --fines-mass, not both")
+        # the breaks between the two snapshots (an event's step is the first
+        # step its fragments exist)
+        ev = read_crush_log(args.events)
+        sel = (ev["step"] > init["timestep"]) & (ev["step"] <= now["timestep"])
+        fines_events = break_fines(ev["parent_diameter"][sel], density=args.density,
+                                   d_frag_min=args.d_frag_min)
+        fines = fines_events.total
+    else:
+        if args.fines_mass is None:
+            # Exact mass accounting: what the particles lost since the start is fines.
+            fines = max(0.0, float(m0.sum()) + args.initial_fines_mass - float(m.sum()))
+        else:
+            fines = args.fines_mass
+        if fines > 0.0 and args.fines_grading == "fractal":
+            raise ValueError("fines_grading 'fractal' needs the sizes of the broken grains: "
+                             "give the event log with --events, or use --fines-grading d_min")
+        m_fines = fines
+    res = breakage(d, m, d0, m0, d_min, d_max, m_fines=m_fines,
+                   m_fines_initial=args.initial_fines_mass, w=args.w, fines=fines_events,
+                   fines_grading=args.fines_grading)
     if args.json:
-        print(json.dumps({"Br": res.Br, "B_t": res.B_t, "B_p": res.B_p,
-                          "fines_mass": fines, "d_min": d_min, "d_max": d_max,
+        print(json.dumps({"Br": res.Br, "Br_einav": res.Br_einav, "B_t": res.B_t,
+                          "B_p": res.B_p, "fines_mass": fines, "fines_grading": args.fines_grading,
+                          "d_min": d_min, "d_max": d_max,
                           "timestep": now["timestep"],
                           "initial_timestep": init["timestep"]}))
     else:
@@ -133,13 +151,23 @@ def build_parser():
     br.add_argument("--w", type=float, default=W_FRACTAL,
                     help="fractal dimension of the limit grading (default 2.6)")
     br.add_argument("--density", type=float, default=2600.0,
-                    help="particle density [kg/m^3] when the dump has no mass column")
+                    help="particle density [kg/m^3] when the dump has no mass column, "
+                    "and of the broken grains of --events")
+    br.add_argument("--events", help="event log of fix crush/particle (keyword 'events'): "
+                    "the fines of each break get the size range of their parent")
+    br.add_argument("--fines-grading", choices=("fractal", "d_min"), default="fractal",
+                    help="how fines enter the grading, as the fix's keyword (default fractal, "
+                    "needs --events when there are fines)")
+    br.add_argument("--d-frag-min", type=float, default=0.0,
+                    help="the fix's d_frag_min [m] (default 0), with --events")
     br.add_argument("--fines-mass", type=float,
-                    help="fines mass now [kg] (default: initial mass minus current "
-                    "particle mass, i.e. particles that left the domain count as fines)")
+                    help="without --events: fines mass now [kg], finer than d_min (default: "
+                    "initial mass minus current particle mass, i.e. particles that left the "
+                    "domain count as fines)")
     br.add_argument("--initial-fines-mass", type=float, default=0.0,
                     help="fines mass of the initial grading [kg] (default 0)")
-    br.add_argument("--json", action="store_true", help="print Br, B_t, B_p, ... as JSON")
+    br.add_argument("--json", action="store_true",
+                    help="print Br, Br_einav (unbounded), B_t, B_p, ... as JSON")
     br.set_defaults(func=_cmd_br)
 
     fq = sub.add_parser("fit-qc", help="fit q_c(h) = a (1 - exp(-b h)); prints JSON")

@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 
-from .breakage import psd_curve
+from .breakage import break_fines, psd_curve
 from .dump import read_dump
 from .thermo import read_log
 
@@ -46,12 +46,21 @@ def stress_path(log_path):
     return path
 
 
-def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None):
+def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None, events=None,
+                  d_min=None, fines_grading="fractal", d_frag_min=0.0):
     """Grading curves (mass fraction finer than each size) of every dump.
 
-    fines_by_step: callable step -> fines mass, counted as finer than every size.
+    fines_by_step: callable step -> fines mass, counted as finer than every
+    size (fines without sizes, as before fines_grading existed).
+    events: the event log of fix crush/particle (dict of
+    :func:`crushpost.dump.read_crush_log`) instead: the fines of the breaks up
+    to each snapshot enter as the fix counts them for Br (``fines_grading``
+    'fractal' spreads them over ``[d_min, small fragment]``, needs ``d_min``;
+    'd_min' puts them below every size); ``d_frag_min`` as given to the fix.
     Returns steps (n,), curves (n, len(sizes)).
     """
+    if events is not None and fines_by_step is not None:
+        raise ValueError("give either fines_by_step or events, not both")
     files = sorted(glob.glob(dump_pattern), key=lambda p: int(''.join(c for c in os.path.basename(p) if c.isdigit()) or 0))
     steps, curves = [], []
     for f in files:
@@ -60,8 +69,14 @@ def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None):
             d = 2.0 * a["radius"]
             m = a["mass"] if "mass" in a else density * np.pi / 6.0 * d ** 3
             fines = fines_by_step(snap["timestep"]) if fines_by_step else 0.0
+            broken = None
+            if events is not None:
+                sel = events["step"] <= snap["timestep"]
+                broken = break_fines(events["parent_diameter"][sel], density=density,
+                                     d_frag_min=d_frag_min)
             steps.append(snap["timestep"])
-            curves.append(psd_curve(d, m, fines, sizes))
+            curves.append(psd_curve(d, m, fines, sizes, fines=broken,
+                                    fines_grading=fines_grading, d_min=d_min))
     order = np.argsort(steps)
     return np.asarray(steps)[order], np.asarray(curves).reshape(len(steps), len(sizes))[order]
 

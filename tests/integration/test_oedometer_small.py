@@ -255,8 +255,11 @@ def test_breakage_grows_with_stress(crushable):
     k1 = np.flatnonzero(load & (sv >= 1e6))[0]
     k_peak = np.flatnonzero(load)[-1]
     assert br[k_peak] > br[k1], (br[k1], br[k_peak])
-    # no breakage on unloading below the peak (the strongest loading is over)
-    assert br[-1] == br[k_peak]
+    # no breakage on unloading below the peak (the strongest loading is over);
+    # Br the same to round-off (its size bins are re-summed at every output,
+    # in the particles' current order)
+    assert nb[-1] == nb[k_peak]
+    assert br[-1] == pytest.approx(br[k_peak], rel=0, abs=1e-12)
     # 14 fragments replace each parent (no fragment goes to fines here)
     np.testing.assert_array_equal(p["Atoms"] - p["Atoms"][0], 13 * nb)
     events = [l for l in (crushable.out / "breakage_events.txt").read_text().splitlines()

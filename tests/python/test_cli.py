@@ -26,34 +26,59 @@ def write_dump(path, snaps):
 
 def test_br_one_parent_crushed(tmp_path, capsys):
     # 4 grains of d = 0.2 mm; one breaks into the 14 Apollonian fragments,
-    # the missing 47.61 % of its mass is fines (inferred from the mass deficit).
+    # the missing 47.61 % of its mass is fines.
     r = 0.1e-3
     r1, r2 = r / (1 + np.sqrt(2)), 0.230093 * r
     now = [r] * 3 + [r1] * 6 + [r2] * 8
     path = tmp_path / "dump.crush"
     write_dump(path, [(0, [r] * 4), (500, now)])
-    assert main(["br", str(path), "--json"]) == 0
-    out = json.loads(capsys.readouterr().out)
+    events = tmp_path / "events.txt"
+    events.write_text("# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n"
+                      "500 1e-4 4 %.17g 0.5 0.5 0.5 1.0 0.9 particle 0\n" % (2 * r))
     d_min, d_max, d = 0.01e-3, 0.27e-3, 2 * r
     vp, v1, v2 = r ** 3, r1 ** 3, r2 ** 3  # masses in units of rho pi/6 * 8
     fines = vp - 6 * v1 - 8 * v2
-    i0 = np.log(d_max / d)
-    i1 = (3 * vp * np.log(d_max / d) + 6 * v1 * np.log(d_max / (2 * r1))
-          + 8 * v2 * np.log(d_max / (2 * r2)) + fines * np.log(d_max / d_min)) / (4 * vp)
+    L = np.log(d_max / d_min)
     k = 0.4
-    iu = 1 / k - d_min ** k * np.log(d_max / d_min) / (d_max ** k - d_min ** k)
-    assert out["Br"] == pytest.approx((i1 - i0) / (iu - i0), rel=1e-10)
-    assert out["fines_mass"] == pytest.approx(2600 * np.pi / 6 * 8 * fines, rel=1e-9)
+    iu = 1 / k - d_min ** k * L / (d_max ** k - d_min ** k)
+    i0 = np.log(d_max / d)
+    resolved = (3 * vp * np.log(d_max / d) + 6 * v1 * np.log(d_max / (2 * r1))
+                + 8 * v2 * np.log(d_max / (2 * r2)))
+    # fines at d_min (former convention): int F d(ln d) gains fines * L
+    i_dmin = (resolved + fines * L) / (4 * vp)
+    # fractal fines over [d_min, d_f = 2 r2]: with G = (x^k - d_min^k)/(d_f^k - d_min^k),
+    # int_{d_min}^{d_max} G d(ln x) = L - U + (1/k - U d_min^k / (d_f^k - d_min^k)), U = ln(d_f/d_min)
+    d_f = 2 * r2
+    U = np.log(d_f / d_min)
+    i_fr = (resolved + fines * (L - U + 1 / k - U * d_min ** k / (d_f ** k - d_min ** k))) / (4 * vp)
+
+    # default: fractal fines, sizes from the event log
+    assert main(["br", str(path), "--events", str(events), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["fines_grading"] == "fractal"
+    assert out["Br_einav"] == pytest.approx((i_fr - i0) / (iu - i0), rel=1e-6)  # r2 to 6 digits
+    assert 0 < out["Br"] <= out["Br_einav"]
+    assert out["fines_mass"] == pytest.approx(2600 * np.pi / 6 * 8 * fines, rel=1e-5)
     assert out["timestep"] == 500 and out["initial_timestep"] == 0
+    # the former convention, fines inferred from the mass deficit
+    assert main(["br", str(path), "--fines-grading", "d_min", "--json"]) == 0
+    old = json.loads(capsys.readouterr().out)
+    assert old["Br_einav"] == pytest.approx((i_dmin - i0) / (iu - i0), rel=1e-10)
+    assert old["fines_mass"] == pytest.approx(2600 * np.pi / 6 * 8 * fines, rel=1e-9)
+    assert 0 < out["Br"] < old["Br"] <= old["Br_einav"]
+    # fractal without the event log: the fines have no size, an error
+    assert main(["br", str(path)]) == 1
+    assert "--events" in capsys.readouterr().err
     # Plain output is the number alone; the initial grading may be another file.
     init = tmp_path / "dump.init"
     write_dump(init, [(0, [r] * 4)])
-    assert main(["br", str(path), "--initial", str(init)]) == 0
+    assert main(["br", str(path), "--initial", str(init), "--events", str(events)]) == 0
     assert float(capsys.readouterr().out) == pytest.approx(out["Br"], rel=1e-9)
     # Scaling by N scales d_min, d_max: with grains also scaled by N, Br is unchanged.
     big = tmp_path / "dump.big"
     write_dump(big, [(0, [39 * r] * 4), (500, [39 * x for x in now])])
-    assert main(["br", str(big), "--N", "39"]) == 0
+    events.write_text("500 1e-4 4 %.17g 0.5 0.5 0.5 1.0 0.9 particle 0\n" % (39 * 2 * r))
+    assert main(["br", str(big), "--N", "39", "--events", str(events)]) == 0
     assert float(capsys.readouterr().out) == pytest.approx(out["Br"], rel=1e-8)
 
 

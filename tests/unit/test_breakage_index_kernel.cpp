@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "crush_breakage_index_kernel.h"
+#include "crush_breakage_kernel.h"
+#include "crush_fragment_kernel.h"
 
 using namespace CrushKernels;
 
@@ -218,4 +220,308 @@ TEST(BreakageIndexKernel, GradingOnFractalLimitGivesBrOne)
   for (const Grain& p : g0) mix.push_back({p.d, 0.7 * p.m});
   for (const Grain& p : gu) mix.push_back({p.d, 0.3 * p.m});
   EXPECT_NEAR(breakage_index(kernel_grading_integral(mix, 0.0, kDmin, kDmax), I0, Iu), 0.3, 1e-6);
+}
+
+// ---------------------------------------------------------------------------
+// Binned integrals and the bound (fines_grading fractal | d_min)
+// ---------------------------------------------------------------------------
+
+namespace {
+
+// Fractal fines of one break written out from the SPEC formula: mass m spread
+// over [d_min, d_f] with F(x) = (x^k - d_min^k) / (d_f^k - d_min^k), k = 3 - omega
+// (log-uniform at omega = 3).
+struct FractalPart { double m, d_f; };
+
+struct Grading {
+  std::vector<Grain> grains;       // particles (and fragments counted at their size)
+  std::vector<FractalPart> fractal;
+  double below = 0.0;              // mass finer than d_min
+  double omega = 2.6;
+  double mass() const
+  {
+    double M = below;
+    for (const Grain& p : grains) M += p.m;
+    for (const FractalPart& f : fractal) M += f.m;
+    return M;
+  }
+  // mass fraction finer than d, straight from the definitions
+  double F(double d) const
+  {
+    double s = below;
+    for (const Grain& p : grains)
+      if (p.d <= d) s += p.m;
+    const double k = 3.0 - omega;
+    for (const FractalPart& f : fractal) {
+      if (d >= f.d_f || f.d_f <= kDmin) { s += f.m; continue; }
+      if (d <= kDmin) continue;
+      const double G = (k == 0.0) ? std::log(d / kDmin) / std::log(f.d_f / kDmin)
+                                  : (std::pow(d, k) - std::pow(kDmin, k)) /
+                                        (std::pow(f.d_f, k) - std::pow(kDmin, k));
+      s += f.m * G;
+    }
+    return s / mass();
+  }
+};
+
+// int F d(ln d) over [lo, hi] (in u = ln(d/d_min)) by 8-point Gauss-Legendre on
+// every piece between the kinks and jumps of F (particle sizes, fractal tops),
+// where F is smooth: exact to round-off.
+double quadrature_bin(const Grading& g, double lo, double hi)
+{
+  static const double xg[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                               -0.1834346424956498, 0.1834346424956498, 0.5255324099163290,
+                               0.7966664774136267, 0.9602898564975363};
+  static const double wg[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                               0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                               0.2223810344533745, 0.1012285362903763};
+  std::vector<double> cuts = {lo, hi};
+  for (const Grain& p : g.grains) {
+    const double u = std::log(p.d / kDmin);
+    if (u > lo && u < hi) cuts.push_back(u);
+  }
+  for (const FractalPart& f : g.fractal) {
+    const double u = std::log(f.d_f / kDmin);
+    if (u > lo && u < hi) cuts.push_back(u);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  double s = 0.0;
+  for (size_t c = 0; c + 1 < cuts.size(); c++) {
+    const double a = cuts[c], b = cuts[c + 1];
+    for (int q = 0; q < 8; q++) {
+      const double u = 0.5 * (a + b) + 0.5 * (b - a) * xg[q];
+      s += 0.5 * (b - a) * wg[q] * g.F(kDmin * std::exp(u));
+    }
+  }
+  return s;
+}
+
+// The kernel's normalised bin integrals of a Grading.
+std::vector<double> kernel_bins(const Grading& g, const BrGrid& grid)
+{
+  std::vector<double> H(2 * grid.n + 1, 0.0), J(grid.n, 0.0);
+  for (const Grain& p : g.grains) br_histogram_add(p.m, p.d, grid, &H[0]);
+  br_histogram_integrals(&H[0], grid, &J[0]);
+  for (const FractalPart& f : g.fractal) br_add_fractal(f.m, f.d_f, g.omega, grid, &J[0]);
+  br_add_point(g.below, 0.5 * kDmin, grid, &J[0]);
+  const double M = g.mass();
+  for (double& v : J) v /= M;
+  return J;
+}
+
+// A random breakage history: grains of a uniform sand broken one after another
+// (a random breakable grain each time) into the 14 Apollonian fragments.
+// fractal: fines convention; d_comm: grains finer never break; d_frag_min:
+// fragments finer are not created. Returns the grading after every break.
+struct History {
+  BrGrid grid;
+  std::vector<double> J0, U;
+  std::vector<std::vector<double> > J;  // after each break
+  std::vector<double> I_old;            // unbinned integral with all fines below d_min
+};
+
+History random_history(unsigned seed, bool fractal, double d_comm, double d_frag_min, int nbreaks,
+                       double omega = 2.6)
+{
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> U01(0.0, 1.0);
+  History h;
+  h.grid = br_grid(kDmin, kDmax);
+  std::vector<Grain> grains;
+  for (int p = 0; p < 60; p++) {
+    const double d = 0.15e-3 * std::exp(std::log(0.27 / 0.15) * U01(rng));
+    grains.push_back({d, 2600.0 * kPi / 6.0 * d * d * d});
+  }
+  const int n = h.grid.n;
+  auto bins_of = [&](const std::vector<Grain>& gs, const std::vector<double>& Jf, double fines) {
+    std::vector<double> H(2 * n + 1, 0.0), J(Jf);
+    double M = fines;
+    for (const Grain& p : gs) { br_histogram_add(p.m, p.d, h.grid, &H[0]); M += p.m; }
+    br_histogram_integrals(&H[0], h.grid, &J[0]);
+    for (double& v : J) v /= M;
+    return J;
+  };
+  std::vector<double> Jf(n, 0.0);
+  double fines = 0.0;
+  h.J0 = bins_of(grains, Jf, 0.0);
+  h.U.assign(n, 0.0);
+  br_limit_bins(omega, h.grid, &h.U[0]);
+  const double r1 = large_fragment_ratio(), r2 = small_fragment_ratio();
+  for (int k = 0; k < nbreaks; k++) {
+    std::vector<int> breakable;
+    for (size_t p = 0; p < grains.size(); p++)
+      if (grains[p].d >= d_comm) breakable.push_back((int)p);
+    if (breakable.empty()) break;
+    const int p = breakable[(size_t)(U01(rng) * breakable.size()) % breakable.size()];
+    const Grain parent = grains[p];
+    grains.erase(grains.begin() + p);
+    const double r = 0.5 * parent.d, rho = parent.m / (kPi / 6.0 * parent.d * parent.d * parent.d);
+    const double m1 = 4.0 * kPi / 3.0 * (r1 * r) * (r1 * r) * (r1 * r) * rho;
+    const double m2 = 4.0 * kPi / 3.0 * (r2 * r) * (r2 * r) * (r2 * r) * rho;
+    const bool keep1 = 2.0 * (r1 * r) >= d_frag_min, keep2 = 2.0 * (r2 * r) >= d_frag_min;
+    double kept = 0.0;
+    if (keep1) for (int f = 0; f < 6; f++) { grains.push_back({2.0 * r1 * r, m1}); kept += m1; }
+    if (keep2) for (int f = 0; f < 8; f++) { grains.push_back({2.0 * r2 * r, m2}); kept += m2; }
+    fines += parent.m - kept;
+    br_add_break_fines(fractal, parent.d, parent.m, r1, r2, m1, m2, keep1, keep2, omega, h.grid, &Jf[0]);
+    h.J.push_back(bins_of(grains, Jf, fines));
+    double I = fines * std::log(kDmax / kDmin), M = fines;
+    for (const Grain& g : grains) { I += breakage_integral_term(g.m, g.d, kDmin, kDmax); M += g.m; }
+    h.I_old.push_back(I / M);
+  }
+  return h;
+}
+
+double sum(const std::vector<double>& v)
+{
+  double s = 0.0;
+  for (double x : v) s += x;
+  return s;
+}
+
+}  // namespace
+
+TEST(BreakageIndexBins, PsiSeriesMatchesClosedForm)
+{
+  // the two branches of br_psi meet at |z| = 0.5; psi(0) = 1/2
+  for (double z : {0.4999999, -0.4999999, 0.3, -0.2, 1e-3}) {
+    const double closed = (std::expm1(z) - z) / (z * z);
+    EXPECT_NEAR(br_psi(z), closed, 1e-12 * closed) << z;  // closed form loses ~1e-13 at 1e-3
+  }
+  EXPECT_EQ(br_psi(0.0), 0.5);
+  EXPECT_NEAR(br_psi(0.5), (std::expm1(0.5) - 0.5) / 0.25, 1e-15);
+}
+
+TEST(BreakageIndexBins, BinIntegralsMatchQuadrature)
+{
+  // particles on both sides of the range and on bin edges, fines below d_min,
+  // fractal fines with tops inside a bin, on an edge, at d_max, below d_min
+  const BrGrid grid = br_grid(kDmin, kDmax);
+  for (double omega : {2.6, 3.0, 2.0, 2.999999}) {
+    Grading g;
+    g.omega = omega;
+    std::mt19937_64 rng(42u);
+    std::uniform_real_distribution<double> U01(0.0, 1.0);
+    for (int p = 0; p < 300; p++) {
+      const double d = std::exp(std::log(kDmin / 3.0) + std::log(9.0 * kDmax / kDmin) * U01(rng));
+      g.grains.push_back({d, (0.1 + U01(rng)) * 1e-9});
+    }
+    g.grains.push_back({kDmin * std::exp(17 * grid.h), 1e-9});  // on a bin edge
+    g.grains.push_back({kDmin, 2e-9});
+    g.grains.push_back({kDmax, 2e-9});
+    g.below = 3e-9;
+    g.fractal = {{4e-9, 0.23 * 0.21e-3}, {2e-9, kDmin * std::exp(40 * grid.h)},
+                 {1e-9, kDmax}, {1e-9, 0.5 * kDmin}, {5e-9, 2.0 * kDmin}};
+    const std::vector<double> J = kernel_bins(g, grid);
+    double total = 0.0;
+    for (int b = 0; b < grid.n; b++) {
+      const double q = quadrature_bin(g, b * grid.h, (b + 1) * grid.h);
+      EXPECT_NEAR(J[b], q, 1e-13) << "omega " << omega << " bin " << b;
+      total += q;
+    }
+    // the bins add up to the whole integral
+    EXPECT_NEAR(sum(J), total, 1e-12);
+  }
+}
+
+TEST(BreakageIndexBins, LimitBinsAreTheLimitGradingIntegral)
+{
+  const BrGrid grid = br_grid(kDmin, kDmax);
+  for (double omega : {2.6, 3.0, 2.0}) {
+    std::vector<double> U(grid.n);
+    br_limit_bins(omega, grid, &U[0]);
+    Grading g;
+    g.omega = omega;
+    g.fractal = {{1.0, kDmax}};
+    for (int b = 0; b < grid.n; b += 9)
+      EXPECT_NEAR(U[b], quadrature_bin(g, b * grid.h, (b + 1) * grid.h), 1e-14) << omega << " " << b;
+    EXPECT_NEAR(sum(U), fractal_grading_integral(kDmin, kDmax, omega), 1e-13);
+  }
+  // omega -> 3 is continuous (series branch): bins at 3 - 1e-12 and at 3 agree
+  std::vector<double> a(grid.n), b(grid.n);
+  br_limit_bins(3.0, grid, &a[0]);
+  br_limit_bins(3.0 - 1e-12, grid, &b[0]);
+  for (int k = 0; k < grid.n; k++) EXPECT_NEAR(a[k], b[k], 1e-13);  // d U_b / d omega ~ 0.01
+  // log-uniform bins: int over bin b of u / L du = h^2 (b + 1/2) / L
+  for (int k = 0; k < grid.n; k += 13) EXPECT_NEAR(a[k], grid.h * grid.h * (k + 0.5) / grid.L, 1e-15);
+}
+
+TEST(BreakageIndexBins, UnclippedSumIsTheOldFormulaWithFinesBelowDmin)
+{
+  // legacy convention: sum of the bins = the unbinned step-grading integral
+  // with all fines finer than d_min, for any history
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const History h = random_history(seed, false, 0.0, 0.0, 80);
+    for (size_t k = 0; k < h.J.size(); k++) EXPECT_NEAR(sum(h.J[k]), h.I_old[k], 1e-13) << k;
+  }
+}
+
+TEST(BreakageIndexBins, ZeroForInitialOneForLimit)
+{
+  const History h = random_history(7u, true, 0.0, 0.0, 1);
+  EXPECT_EQ(bounded_breakage_index(&h.J0[0], &h.J0[0], &h.U[0], h.grid.n), 0.0);
+  EXPECT_EQ(bounded_breakage_index(&h.U[0], &h.J0[0], &h.U[0], h.grid.n), 1.0);
+  // the limit grading sampled by 20000 grains (mass dF_u at each ln-d cell centre)
+  const BrGrid grid = h.grid;
+  Grading g;
+  const int K = 20000;
+  for (int i = 0; i < K; i++) {
+    const double a = kDmin * std::exp(i * grid.L / K), b = kDmin * std::exp((i + 1) * grid.L / K);
+    g.grains.push_back({std::sqrt(a * b), fractal_grading(b, kDmin, kDmax, 2.6) -
+                                              fractal_grading(a, kDmin, kDmax, 2.6)});
+  }
+  const std::vector<double> J = kernel_bins(g, grid);
+  EXPECT_NEAR(bounded_breakage_index(&J[0], &h.J0[0], &h.U[0], grid.n), 1.0, 1e-4);
+  // an initial grading above the limit one in every bin: no potential, Br = 0
+  EXPECT_EQ(bounded_breakage_index(&h.U[0], &h.U[0], &h.J0[0], grid.n), 0.0);
+}
+
+TEST(BreakageIndexBins, BoundedForRandomHistories)
+{
+  // both conventions, with and without a comminution limit and d_frag_min;
+  // grains broken until none can break or 400 breaks. Br in [0, 1], never
+  // decreasing (breakage only moves mass to finer sizes), equal to the
+  // unclipped ratio while every bin is within its bounds.
+  const double Iu = fractal_grading_integral(kDmin, kDmax, 2.6);
+  bool old_passed_one = false, some_clipped = false;
+  int n_hist = 0;
+  for (unsigned seed = 11; seed < 17; seed++)
+    for (int fractal = 0; fractal < 2; fractal++)
+      for (double d_comm : {0.0, 0.55 * 0.21e-3})
+        for (double d_frag_min : {0.0, 0.03e-3}) {
+          if (d_comm == 0.0 && d_frag_min == 0.0) continue;  // would never end
+          const History h = random_history(seed, fractal == 1, d_comm, d_frag_min, 400);
+          n_hist++;
+          const double I0 = sum(h.J0);
+          double prev = 0.0;
+          for (size_t k = 0; k < h.J.size(); k++) {
+            const double Br = bounded_breakage_index(&h.J[k][0], &h.J0[0], &h.U[0], h.grid.n);
+            ASSERT_GE(Br, 0.0);
+            ASSERT_LE(Br, 1.0);
+            ASSERT_GE(Br, prev - 1e-14);
+            prev = Br;
+            bool inside = true;
+            for (int b = 0; b < h.grid.n; b++)
+              inside = inside && h.J[k][b] >= h.J0[b] && h.J[k][b] <= h.U[b] && h.J0[b] <= h.U[b];
+            const double einav = breakage_index(sum(h.J[k]), I0, Iu);
+            if (inside) EXPECT_NEAR(Br, einav, 1e-12);
+            else some_clipped = true;
+            if (breakage_index(h.I_old[k], I0, Iu) > 1.0) old_passed_one = true;
+          }
+        }
+  EXPECT_EQ(n_hist, 6 * 2 * 3);
+  // the histories reach the bound, and the former index (unclipped, fines
+  // below d_min) passed 1 in some of them: the case this bound is for
+  EXPECT_TRUE(some_clipped);
+  EXPECT_TRUE(old_passed_one);
+}
+
+TEST(BreakageIndexBins, FractalFinesGrowBrLessThanFinesBelowDmin)
+{
+  // same history, two conventions: the fractal fines are coarser than d_min,
+  // so the integral (and Br) grows less
+  const History a = random_history(5u, true, 0.55 * 0.21e-3, 0.0, 30);
+  const History b = random_history(5u, false, 0.55 * 0.21e-3, 0.0, 30);
+  ASSERT_EQ(a.J.size(), b.J.size());
+  for (size_t k = 0; k < a.J.size(); k++) EXPECT_LT(sum(a.J[k]), sum(b.J[k]));
 }
