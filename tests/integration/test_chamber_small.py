@@ -116,3 +116,51 @@ def test_measurement_spheres_read_the_chamber_stress(chamber):
     p0 = np.trace(sigma[0], axis1=1, axis2=2) / 3.0
     p_boundary = (SV + 2 * SR) / 3.0
     assert np.all((p0 > 0.5 * p_boundary) & (p0 < 2.0 * p_boundary)), (p0, p_boundary)
+
+
+def test_snapshots_hold_wall_and_cone_contacts(chamber):
+    """The chamber keeps one mesh wall fix for the whole run (the plug is lifted
+    away, not removed), so every snapshot holds the particle-wall contacts:
+    at the end of every push the cone's, and the chamber walls' at every
+    snapshot; none with the plug. The per-particle stress written with the
+    particles (compute stress/grain, c_sigma_p) is SPEC's sigma_p over all
+    contacts: crushpost.snapshot computes the same from the snapshot's
+    contacts, walls included (1e-9 of the largest stress), and without the
+    wall contacts it differs (the walls carry load)."""
+    from crushpost.snapshot import list_snapshots, read_snapshot, snapshot_particle_stress
+
+    j = chamber["jack"]
+    snaps = list_snapshots(chamber["out"] / "snapshots" / "jack")
+    assert snaps
+    n_push_ends = 0
+    for step, path in snaps:
+        s = read_snapshot(path)
+        pw = s["contacts"]["pw"]
+        assert pw is not None and len(pw["id"]) > 0, path
+        assert pw["wall_fix"] == "walls"
+        names = pw["meshes"]
+        assert {"top", "bottom", "side", "cone", "shaft", "plug"} <= set(names), names
+        used = {names[m] for m in np.unique(pw["mesh"])}
+        assert {"top", "bottom", "side"} <= used, (step, used)
+        assert "plug" not in used, (step, used)
+        if s["trigger_old"] == 0:                  # the end of a push
+            n_push_ends += 1
+            cone = pw["mesh"] == names.index("cone")
+            assert cone.sum() >= 3, (step, cone.sum())
+            # the cone pushes the grains down and outwards
+            f = pw["force"][cone]
+            assert f[:, 2].sum() < 0.0
+        comp = s["particles"]["values"]["c_sigma_p"].reshape(-1, 9)
+        sig = snapshot_particle_stress(s)
+        full = np.empty_like(sig)
+        full[:, [0, 1, 2], [0, 1, 2]] = comp[:, :3]
+        for (a, b), sym, skew in (((0, 1), 3, 6), ((0, 2), 4, 7), ((1, 2), 5, 8)):
+            full[:, a, b] = comp[:, sym] + comp[:, skew]
+            full[:, b, a] = comp[:, sym] - comp[:, skew]
+        scale = np.abs(full).max()
+        np.testing.assert_allclose(sig, full, rtol=0, atol=1e-9 * scale)
+        no_walls = snapshot_particle_stress(s, walls=False)
+        assert np.abs(no_walls - full).max() > 0.1 * scale
+    assert n_push_ends >= 2
+    # the plug was lifted before jacking and stays parked (its force is zero)
+    assert "CHAMBER plug lifted to z" in chamber["log"]

@@ -95,7 +95,7 @@ def build(workdir):
     pos = rsa_box(d, [-L / 2] * 3, [L / 2] * 3, rng=rng)
     B = 0.7 * L
     write_lammps_data(os.path.join(workdir, "grains.data"), pos, d, 2600.0,
-                      (-B, B, -B, B, -B, B), ntypes=3)
+                      (-B, B, -B, B, -B, B), ntypes=4)
     plates = []
     for axis, name in enumerate("xyz"):
         for sign, tag in ((-1, "m"), (1, "p")):
