@@ -9,6 +9,11 @@ sigma_p = -(1/V_p) sum_c s^c (x) F^c over every contact, walls included
    top plate's position (SPEC section 2; E* of grain and steel), to 1e-9;
    that is 3 F / (2 pi r^2) to first order in d/r (within 3 % here); every
    other component (skew part included) is zero.
+   The same with a fragment (r_s = 0.23 r, the small Apollonian fragment) on
+   the grain: each one's sigma_zz = 3 sum_c |s_c| F_c / (4 pi r^3) with |s_c|
+   the distance to the plate, or to the pair's contact point
+   c = (r_j x_i + r_i x_j)/(r_i + r_j) (LIGGGHTS' point). The pair virial
+   (half the branch vector) would read the fragment 1.8 times higher.
 2. A closed box: about 130 NE34 grains (N = 39) grown by fix adapt inside six
    frictionless mesh plates, then run without damping or gravity. The
    contact terms of a pair cancel in the sum over grains (same contact point,
@@ -47,7 +52,8 @@ from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_da
 INPUTS = harness.REPO / "inputs"
 N = 39
 D50 = D50_NE34 * N
-E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, cd.E_STEEL, cd.NU_STEEL)
+E_STEEL_NE34 = 2.0 * 85e9 * (1.0 + 0.2)     # materials_ne34.in: G_steel 85 GPa, nu 0.2
+E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_STEEL_NE34, 0.2)
 STRESS_COLS = " ".join("c_sigma_p[%d]" % k for k in range(1, 10))
 DUMP_FMT = "%d" + " %.17g" * 16
 
@@ -73,24 +79,25 @@ def stress_of(frame):
 # ---------------------------------------------------------------------------
 
 R1 = 0.5 * D50
+R_FRAG = 0.230093 * R1             # the small fragment of an Apollonian break
 X1, Y1 = 0.0031, -0.0017           # off the axis and off the plates' diagonals
 V_PLATE = 0.2
 DT1 = 2e-7
 STEPS1 = 3000
 EVERY1 = 300
+PRESS = 1e-6                       # the plates' total overlap at the start
 
 SINGLE = """\
 variable inputs index {inputs}
 include ${{inputs}}/base.in
 boundary f f f
-region box block -0.02 0.02 -0.02 0.02 -0.001 0.02 units box
+region box block -0.02 0.02 -0.02 0.02 -0.001 0.025 units box
 create_box 4 box
 include ${{inputs}}/materials_ne34.in
 neighbor 0.0005 bin
 neigh_modify delay 0
 timestep {dt!r}
-create_atoms 1 single {x!r} {y!r} {z!r} units box
-set atom 1 diameter {d!r} density 2600
+{atoms}
 fix bottom all mesh/surface/stress file bottom.stl type 2
 fix top    all mesh/surface/stress file top.stl type 2 reference_point 0 0 {ztop!r}
 fix walls  all wall/gran model hertz tangential history mesh n_meshes 2 meshes bottom top
@@ -106,47 +113,73 @@ dump_modify d format "{fmt}" sort id
 run {steps}
 """
 
+STACKS = {"grain": [R1], "fragment_on_grain": [R1, R_FRAG]}
 
-@pytest.fixture(scope="module")
-def single(tmp_path_factory):
-    wd = tmp_path_factory.mktemp("single")
+
+@pytest.fixture(scope="module", params=sorted(STACKS))
+def stack(request, tmp_path_factory):
+    radii = STACKS[request.param]
+    wd = tmp_path_factory.mktemp(request.param)
     write_stl(wd / "bottom.stl", plate_triangles(0.015, 0.0), "bottom")
-    z_top = 2 * R1 - 1e-6               # pressed from the start (1 micron)
+    # touching, then the plates' overlap PRESS shared out
+    z = np.cumsum(2 * np.array(radii)) - np.array(radii) - PRESS / (2 * len(radii))
+    z_top = 2 * sum(radii) - PRESS
     write_stl(wd / "top.stl", plate_triangles(0.015, z_top), "top")
-    deck = SINGLE.format(inputs=INPUTS, dt=DT1, x=X1, y=Y1, z=R1 - 1e-6 / 2, d=2 * R1,
-                         ztop=z_top, v=-V_PLATE, every=EVERY1, cols=STRESS_COLS,
-                         fmt=DUMP_FMT, steps=STEPS1)
+    atoms = "".join("create_atoms 1 single {x!r} {y!r} {z!r} units box\n"
+                    "set atom {k} diameter {d!r} density 2600\n"
+                    .format(x=X1, y=Y1, z=zk, k=k + 1, d=2 * rk)
+                    for k, (rk, zk) in enumerate(zip(radii, z)))
+    deck = SINGLE.format(inputs=INPUTS, dt=DT1, atoms=atoms, ztop=z_top, v=-V_PLATE,
+                         every=EVERY1, cols=STRESS_COLS, fmt=DUMP_FMT, steps=STEPS1)
     res = cd.run(deck, wd, nprocs=1, timeout=120)
     frames = [harness.read_dump(p)[0] for p in sorted(wd.glob("grain.*.txt"),
                                                       key=lambda p: int(p.name.split(".")[1]))]
     th = res.thermo[0]
     z_top_at = dict(zip(th["Step"].astype(int), th["v_ztop"]))
-    return frames, z_top_at
+    return np.array(radii), frames, z_top_at
 
 
-def test_single_grain_between_plates(single):
-    frames, z_top_at = single
+def stack_stress_zz(radii, z, z_top):
+    """sigma_zz of each grain of a vertical stack between the plate z = 0 and
+    the plate z_top: 3 sum_c |s_c| F_c / (4 pi r^3), Hertz forces (SPEC
+    section 2), s_c to the plate or to LIGGGHTS' pair contact point."""
+    n = len(radii)
+    out = np.zeros(n)
+    # bottom and top plates
+    for k, gap in ((0, z[0]), (n - 1, z_top - z[-1])):
+        d = radii[k] - gap
+        out[k] += gap * float(cd.hertz_force(d, radii[k], E_STAR_STEEL))
+    for k in range(n - 1):
+        dist = z[k + 1] - z[k]
+        d = radii[k] + radii[k + 1] - dist
+        E_pair = 0.5 * cd.E_GRAIN / (1 - cd.NU_GRAIN ** 2)
+        F = float(cd.hertz_force(d, cd.effective_radius(radii[k], radii[k + 1]), E_pair))
+        for g in (k, k + 1):
+            out[g] += dist * radii[g] / (radii[k] + radii[k + 1]) * F
+    return 3.0 * out / (4.0 * math.pi * radii ** 3)
+
+
+def test_stack_between_plates(stack):
+    radii, frames, z_top_at = stack
     checked = 0
     for fr in frames[1:]:                 # not the setup frame (mesh reference)
-        z = fr["z"][0]
-        d_b = R1 - z
-        d_t = z + R1 - z_top_at[fr.timestep]
-        F_b = float(cd.hertz_force(d_b, R1, E_STAR_STEEL))
-        F_t = float(cd.hertz_force(d_t, R1, E_STAR_STEEL))
-        assert F_b > 0 and F_t > 0
-        sig = stress_of(fr)[0]
-        expect = 3.0 * ((R1 - d_t) * F_t + (R1 - d_b) * F_b) / (4.0 * math.pi * R1 ** 3)
-        assert sig[2, 2] == pytest.approx(expect, rel=1e-9)
-        # first order in d/r: 3 F / (2 pi r^2), F the mean plate force
-        approx = 3.0 * 0.5 * (F_t + F_b) / (2.0 * math.pi * R1 ** 2)
-        assert abs(sig[2, 2] - approx) < 0.03 * approx
+        z = fr["z"]
+        sig = stress_of(fr)
+        expect = stack_stress_zz(radii, z, z_top_at[fr.timestep])
+        assert np.all(expect > 0)
+        np.testing.assert_allclose(sig[:, 2, 2], expect, rtol=1e-9)
         others = sig.copy()
-        others[2, 2] = 0.0
-        assert np.abs(others).max() < 1e-12 * sig[2, 2], sig
+        others[:, 2, 2] = 0.0
+        assert np.abs(others).max() < 1e-12 * sig[:, 2, 2].min(), sig
+        if len(radii) == 1:
+            # first order in d/r: 3 F / (2 pi r^2), F the mean plate force
+            F = np.mean([float(cd.hertz_force(r - g, r, E_STAR_STEEL))
+                         for r, g in ((radii[0], z[0]), (radii[0], z_top_at[fr.timestep] - z[0]))])
+            approx = 3.0 * F / (2.0 * math.pi * radii[0] ** 2)
+            assert abs(sig[0, 2, 2] - approx) < 0.03 * approx
         checked += 1
     assert checked >= 5
-    print("single grain: sigma_zz %.6g Pa at the last output (3F/(2 pi r^2) %.6g Pa)"
-          % (sig[2, 2], approx))
+    print("stack %s: sigma_zz %s Pa at the last output" % (radii, sig[:, 2, 2]))
 
 
 # ---------------------------------------------------------------------------

@@ -48,7 +48,8 @@ D = 39 * 0.21e-3              # the grain: 39 d50 at N = 39 = d50 of the chamber
 R = 0.5 * D
 SIGMA = cd.strength(D, N)     # var 0: f = 1
 E_STAR_RIGID = cd.E_GRAIN / (1.0 - cd.NU_GRAIN ** 2)
-E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, cd.E_STEEL, cd.NU_STEEL)
+E_STEEL_NE34 = 2.0 * 85e9 * (1.0 + 0.2)     # materials_ne34.in: G_steel 85 GPa, nu 0.2
+E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_STEEL_NE34, 0.2)
 F_LIM = cd.limit_force(SIGMA, R, E_STAR_RIGID)
 SPEED = 0.5                   # platen speed, m/s
 DT = 2e-7                     # 0.03 Rayleigh times of the grain
