@@ -60,10 +60,11 @@ def sphere_radius(a):
     return SPHERE_RADIUS_D50 * D50_NE34 * a.N
 
 
-# Where the walls can be while the spheres report (jacking): the top wall
-# settles during preparation and servo (measured 0.8-1.5 % of the height in
-# the demo chambers, docs/measurement_spheres.md), the lateral wall closes in
-# by the servo (0.1-0.3 %); the margins below cover both twice over.
+# Where the walls can be while the spheres report (jacking), as fractions of
+# the chamber's height and radius: by the end of the servo phase the top wall
+# had settled 0.2 % and the lateral wall closed in 0.06 % in the chamber of
+# tests/integration/test_chamber_small.py (docs/measurement_spheres.md); the
+# margins leave room for looser packings and longer servo phases.
 TOP_SETTLE, SIDE_CLOSE = 0.03, 0.02
 
 
