@@ -194,7 +194,7 @@ def build_packing(args):
 def write_data(path, pos, d, box):
     with open(path, "w") as fh:
         fh.write("LIGGGHTS data file: FCC packing of bench/crush_overhead/run.py\n\n")
-        fh.write("%d atoms\n3 atom types\n\n" % len(d))
+        fh.write("%d atoms\n4 atom types\n\n" % len(d))
         fh.write("%.12g %.12g xlo xhi\n%.12g %.12g ylo yhi\n%.12g %.12g zlo zhi\n\n" % tuple(box))
         fh.write("Atoms\n\n")
         for i in range(len(d)):

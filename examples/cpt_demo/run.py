@@ -27,7 +27,8 @@ from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 from crushpost.snapshot import list_snapshots  # noqa: E402
-from crushpost.spheres import chamber_sphere_centres, read_sphere_series, write_sphere_block  # noqa: E402
+from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,  # noqa: E402
+                               read_sphere_series, write_sphere_block)
 from crushpost.thermo import read_log  # noqa: E402
 from crushpost.trend import fit_qc_trend, qc_trend  # noqa: E402
 
@@ -59,8 +60,28 @@ def sphere_radius(a):
     return SPHERE_RADIUS_D50 * D50_NE34 * a.N
 
 
+# Where the walls can be while the spheres report (jacking), as fractions of
+# the chamber's height and radius: by the end of the servo phase the top wall
+# had settled 0.2 % and the lateral wall closed in 0.06 % in the chamber of
+# tests/integration/test_chamber_small.py (docs/measurement_spheres.md); the
+# margins leave room for looser packings and longer servo phases.
+TOP_SETTLE, SIDE_CLOSE = 0.03, 0.02
+
+
+def check_spheres(a, tip_z0):
+    """Raise ValueError if a measurement sphere would not lie wholly in the
+    sand during jacking (crushpost.spheres.check_chamber_spheres); returns the
+    smallest clearance (m). Spheres may touch walls and the pile: the block
+    counts their contacts."""
+    return check_chamber_spheres(sphere_centres(a, tip_z0), sphere_radius(a),
+                                 R_side=(1.0 - SIDE_CLOSE) * a.R_ch, z_bottom=0.0,
+                                 z_top=(1.0 - TOP_SETTLE) * a.H_ch, R_pile=a.R_pile,
+                                 sector=a.sector)
+
+
 def write_spheres(a, out, tip_z0):
     """The measurement-sphere block (docs/measurement_spheres.md); returns its path."""
+    check_spheres(a, tip_z0)
     path = os.path.join(out, "spheres.in")
     write_sphere_block(path, sphere_centres(a, tip_z0), sphere_radius(a), a.jack_every * 10,
                        "spheres.txt")
@@ -79,8 +100,6 @@ def run_deck(a, out, tip_z0):
          "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
          "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every,
          "jack_every": a.jack_every, "output_block": OUTPUT_BLOCK[a.vtk], "vtk_every": a.vtk_every}
-    if a.snapshots == "yes" or a.vtk == "contacts":
-        v["contacts_block"] = "contacts_local"
     if a.snapshots == "yes":
         v["snapshot_block"] = "snapshots_hdf5"
     if a.spheres == "yes":

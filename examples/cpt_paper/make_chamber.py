@@ -8,7 +8,7 @@ Writes into --out the loose packing grains.data (NE34 grading at N = 39,
 porosity 0.385 at 0.75 of the final size, about 442,000 grains for the full
 chamber: vectorised random sequential addition, a few minutes) and the meshes
 read by inputs/chamber_walls.in (side.stl, top.stl, plug.stl, bottom.stl,
-cone.stl, shaft.stl), plus run.sh with the mpirun command line for the case,
+cone.stl, shaft.stl, and the symmetry planes sym_y.stl, sym_x.stl of a sector), plus run.sh with the mpirun command line for the case,
 and chamber.json (grain count, box, sizes). Reduce --R-ch / --H-ch /
 --depth for smaller scenes (the deck variables R_ch, H_ch and jack_args must
 then be passed too; run.sh does it).

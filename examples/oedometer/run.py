@@ -39,7 +39,7 @@ def build(args, out):
     pos = rsa_cylinder(d, R, 0.0, H, rng=rng)
     L = 1.3 * R
     write_lammps_data(os.path.join(out, "grains.data"), pos, d, RHO,
-                      (-L, L, -L, L, -0.05 * H, 1.05 * H), ntypes=3)
+                      (-L, L, -L, L, -0.05 * H, 1.05 * H), ntypes=4)
     write_plate_stl(os.path.join(out, "plate.stl"), 1.2 * R)
     return R, H, n
 

@@ -79,7 +79,7 @@ def build(args, out):
     box = (-END_SPAN * W / 2 - 0.1 * W, END_SPAN * W / 2 + 0.1 * W) * 2 + \
         (H / 2 - LATERAL_Z_SPAN * H / 2 - 0.1 * H, H / 2 + LATERAL_Z_SPAN * H / 2 + 0.1 * H)
     box = (box[0], box[1], box[0], box[1], box[4], box[5])
-    write_lammps_data(os.path.join(out, "grains.data"), pos, d * args.shrink, RHO, box, ntypes=3)
+    write_lammps_data(os.path.join(out, "grains.data"), pos, d * args.shrink, RHO, box, ntypes=4)
     centre = (0.0, 0.0, H / 2)
     # lateral plates: x plates span (y, z); y plates span (z, x) in cyclic order
     write_rectangle_stl(os.path.join(out, "plate_xm.stl"), 0, -W / 2, centre,

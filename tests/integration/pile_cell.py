@@ -79,7 +79,7 @@ def settle(wd, R_cell, H_pack, H_rsa, dt, steps, seed, z_box_top):
     pos = rsa_cylinder(d, R_cell, 0.0, H_rsa, rng=rng)
     L = 1.2 * R_cell
     write_lammps_data(Path(wd) / "grains.data", pos, d, RHO, (-L, L, -L, L, -0.005, z_box_top),
-                      ntypes=3)
+                      ntypes=4)
     res = harness.run_deck(settle_deck(R_cell, dt, steps), wd, timeout=300, check=True)
     atoms = data_atoms(Path(wd) / "settled.data")
     assert len(atoms) == n
@@ -101,7 +101,7 @@ include         ${{inputs}}/base.in
 atom_modify     sort 0 0.0
 boundary        f f f
 region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
-create_box      3 box
+create_box      4 box
 include         ${{inputs}}/materials_ne34.in
 neighbor        0.002 bin
 timestep        1e-5

@@ -84,7 +84,7 @@ atom_modify     sort 0 0.0     # no atoms: nothing to sort
 boundary        f f f
 {processors}
 region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
-create_box      3 box
+create_box      4 box
 include         ${{inputs}}/materials_ne34.in
 neighbor        0.002 bin
 neigh_modify    delay 0
@@ -213,7 +213,7 @@ boundary        f f f
 # one far-away grain: LIGGGHTS needs an atom type in use for a second run
 RESTART_BOX = """\
 region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
-create_box      3 box
+create_box      4 box
 create_atoms    1 single 0.015 0.015 0.19 units box
 set             atom 1 diameter 0.001 density 2600
 """

@@ -147,7 +147,7 @@ def scene(tmp_path_factory):
     pos[:, 1] += AXIS[1]
     L = 1.3 * R0 + max(abs(AXIS[0]), abs(AXIS[1]))
     write_lammps_data(str(d / "grains.data"), pos, diam, RHO,
-                      (-L, L, -L, L, -0.3 * H, 1.3 * H), ntypes=3)
+                      (-L, L, -L, L, -0.3 * H, 1.3 * H), ntypes=4)
     write_stl(str(d / "chamber.stl"),
               cylinder_triangles(R0, -0.1 * H, 1.1 * H, N_SEG, center=AXIS), "chamber")
     write_stl(str(d / "plate.stl"), plate_triangles(R0 + 0.01), "plate")
@@ -271,7 +271,7 @@ variable inputs index {inputs}
 include ${{inputs}}/base.in
 boundary {boundary}
 region box block -0.05 0.05 -0.05 0.05 -0.01 0.06 units box
-create_box 3 box
+create_box 4 box
 create_atoms 1 single 0.006 -0.004 0.02 units box
 set atom 1 diameter 0.008 density 2600
 include ${{inputs}}/materials_ne34.in

@@ -535,7 +535,7 @@ variable        inputs index {inputs}
 include         ${{inputs}}/base.in
 boundary        f f f
 region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
-create_box      3 box
+create_box      4 box
 create_atoms    1 single 0.015 0.015 0.19 units box
 set             atom 1 diameter 0.001 density 2600
 include         ${{inputs}}/materials_ne34.in

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from crushpost.chamber import write_chamber
+from crushpost.chamber import N_ATOM_TYPES, symmetry_planes, write_chamber
 from crushpost.meshes import annulus_triangles, cylinder_triangles, read_stl
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, rsa_cylinder_fast
 
@@ -83,13 +83,19 @@ def test_arc_meshes_span_the_requested_azimuths():
     assert area == pytest.approx(14 * math.sin(2 * h) * (0.1 ** 2 - 0.02 ** 2) / 2, rel=1e-12)
 
 
-@pytest.mark.parametrize("sector", [360, 90])
+@pytest.mark.parametrize("sector", [360, 180, 90])
 def test_chamber_files_fit_in_the_box(tmp_path, sector):
     c = write_chamber(str(tmp_path), 39, 0.05, 0.05, 0.018, 0.01, sector=sector, rng=10069)
     xlo, xhi, ylo, yhi, zlo, zhi = c["box"]
     data = np.loadtxt(tmp_path / "grains.data", skiprows=11)
     assert data.shape[0] == c["n"]
-    for name in ("side", "top", "plug", "bottom", "cone", "shaft"):
+    # materials_ne34.in has 4 types (grain, steel, chamber wall, symmetry plane)
+    assert "\n%d atom types\n" % N_ATOM_TYPES in (tmp_path / "grains.data").read_text()
+    assert N_ATOM_TYPES == 4 and np.all(data[:, 1] == 1)
+    planes = {360: [], 180: ["sym_y"], 90: ["sym_x", "sym_y"]}[sector]
+    assert c["symmetry_planes"] == planes
+    assert sorted(p.stem for p in tmp_path.glob("sym_*.stl")) == planes
+    for name in ["side", "top", "plug", "bottom", "cone", "shaft"] + planes:
         _, v = read_stl(str(tmp_path / (name + ".stl")))
         v = v.reshape(-1, 3)
         assert v[:, 0].min() >= xlo and v[:, 0].max() <= xhi, name
@@ -101,3 +107,34 @@ def test_chamber_files_fit_in_the_box(tmp_path, sector):
         # the sector's solid volume is a quarter of the full chamber's
         full = write_chamber(str(tmp_path / "full"), 39, 0.05, 0.05, 0.018, 0.01, sector=360, rng=10069)
         assert c["solid_volume"] == pytest.approx(0.25 * full["solid_volume"], rel=0.03)
+
+
+@pytest.mark.parametrize("sector", [180, 90])
+def test_symmetry_planes_cover_the_sector(tmp_path, sector):
+    """Each plane lies in its plane through the axis, covers the sector's
+    grains from below the bottom to above the top and out past the lateral
+    wall, and reaches past the axis (where the two planes of a quarter meet)."""
+    R, H = 0.05, 0.05
+    c = write_chamber(str(tmp_path), 39, R, H, 0.018, 0.01, sector=sector, rng=10069)
+    data = np.loadtxt(tmp_path / "grains.data", skiprows=11)
+    for name, axis in (("sym_y", 1), ("sym_x", 0)):
+        if name not in c["symmetry_planes"]:
+            continue
+        n, v = read_stl(str(tmp_path / (name + ".stl")))
+        pts = v.reshape(-1, 3)
+        assert np.all(pts[:, axis] == 0.0)
+        # normals into the sector (+y for y = 0, +x for x = 0)
+        np.testing.assert_allclose(n, np.tile(np.eye(3)[axis], (len(n), 1)), atol=1e-12)
+        other = 1 - axis
+        span = (pts[:, other].min(), pts[:, other].max())
+        assert span[0] < 0.0 and span[1] > R * 1.1
+        if sector == 180:
+            assert span[0] < -R * 1.1                  # the whole diameter
+        assert pts[:, 2].min() < 0.0 and pts[:, 2].max() > H
+        assert data[:, 4 + other].max() < span[1] and data[:, 6].max() < pts[:, 2].max()
+        # two facets covering the rectangle
+        area = sum(0.5 * np.linalg.norm(np.cross(t[1] - t[0], t[2] - t[0])) for t in v)
+        assert area == pytest.approx((span[1] - span[0]) * np.ptp(pts[:, 2]), rel=1e-12)
+    assert symmetry_planes(360, R, 0.0, H, 0.01) == {}
+    with pytest.raises(ValueError, match="sector"):
+        symmetry_planes(45, R, 0.0, H, 0.01)

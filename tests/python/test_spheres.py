@@ -6,8 +6,10 @@ import math
 import numpy as np
 
 from crushpost.cli import main
-from crushpost.spheres import (chamber_sphere_centres, measurement_sphere_block,
-                               read_sphere_series, write_sphere_block)
+import pytest
+
+from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,
+                               measurement_sphere_block, read_sphere_series, write_sphere_block)
 
 
 def parse_block(text):
@@ -19,10 +21,10 @@ def parse_block(text):
         if w[0] == "region":
             assert w[2] == "sphere" and w[-2:] == ["units", "box"]
             regions[w[1]] = [float(v) for v in w[3:7]]
-        elif w[0] == "variable":
-            # variable msK_cc equal -c_msK[j]/VOLUME
+        elif w[0] == "variable" and w[2] == "equal":
+            # variable msK_cc equal c_msK[j]/VOLUME
             num, vol = w[3].split("/")
-            assert num.startswith("-c_")          # compression positive
+            assert num.startswith("c_ms")
             divisors[w[1]] = float(vol)
         elif w[0] == "fix":
             fix = w
@@ -45,9 +47,15 @@ def test_block_regions_volumes_and_output():
     vals = fix[7:-2]
     assert vals[:6] == ["v_ms1_xx", "v_ms1_yy", "v_ms1_zz", "v_ms1_xy", "v_ms1_xz", "v_ms1_yz"]
     assert len(vals) == 12
-    # the per-atom virial is only reduced inside each region
-    assert "compute ms_sa all stress/atom pair" in text
-    assert "compute ms2 all reduce/region ms2_reg sum" in text
+    # V_p sigma_p of compute stress/grain (compression positive, walls
+    # included), reduced inside each region
+    assert "variable ms_Vp atom 4.0/3.0*PI*r*r*r" in text
+    for j in range(1, 7):
+        assert "variable ms_s%d atom c_sigma_p[%d]*v_ms_Vp" % (j, j) in text
+    assert "compute ms2 all reduce/region ms2_reg sum v_ms_s1 v_ms_s2 v_ms_s3 v_ms_s4 v_ms_s5 v_ms_s6" in text
+    assert "stress/atom" not in text
+    other = measurement_sphere_block(centres, 0.05, 250, "out.txt", prefix="mt", stress="sg")
+    assert "variable mt_s3 atom c_sg[3]*v_mt_Vp" in other
 
 
 def test_chamber_grid():
@@ -98,3 +106,31 @@ def test_cli_errors(tmp_path, capsys):
     assert main(["spheres", "--radius", "-1", "--centre", "0", "0", "0", "--out", out]) == 1
     err = capsys.readouterr().err
     assert "no sphere" in err and "grid needs" in err and "positive" in err
+
+
+def test_sphere_check_names_the_wall():
+    R, H, Rp = 0.05, 0.07, 0.018
+    ok = chamber_sphere_centres([2.0], [0.02, 0.04], Rp, H)       # r = 36 mm
+    clearance = check_chamber_spheres(ok, 0.012, R, 0.0, H, R_pile=Rp)
+    assert clearance == pytest.approx(min(R - 0.036 - 0.012, 0.036 - 0.012 - Rp, 0.02 - 0.012),
+                                      abs=1e-12)
+    # touching the shaft is allowed (the block counts the pile's contacts)
+    assert check_chamber_spheres([[0.036, 0.0, 0.035]], 0.018, 0.06, 0.0, H, R_pile=Rp) == \
+        pytest.approx(0.0, abs=1e-12)
+    cases = [([[0.036, 0, 0.035]], 0.0145, "sphere 1 ", "lateral wall"),
+             ([[0.036, 0, 0.035], [0.03, 0, 0.005]], 0.01, "sphere 2 ", "bottom"),
+             ([[0.03, 0, 0.065]], 0.01, "sphere 1 ", "top wall"),
+             ([[0.025, 0, 0.035]], 0.01, "sphere 1 ", "pile's path")]
+    for centres, radius, which, wall in cases:
+        with pytest.raises(ValueError) as e:
+            check_chamber_spheres(centres, radius, R, 0.0, H, R_pile=Rp)
+        assert which in str(e.value) and wall in str(e.value), str(e.value)
+    # below the pile's final apex the path is free
+    assert check_chamber_spheres([[0.0, 0.0, 0.015]], 0.01, R, 0.0, H, R_pile=Rp,
+                                 z_tip_final=0.03) > 0
+    # symmetry planes of sectors
+    with pytest.raises(ValueError, match="symmetry plane y = 0"):
+        check_chamber_spheres([[0.03, 0.005, 0.035]], 0.01, R, 0.0, H, sector=180)
+    with pytest.raises(ValueError, match="symmetry plane x = 0"):
+        check_chamber_spheres([[0.005, 0.03, 0.035]], 0.01, R, 0.0, H, sector=90)
+    assert check_chamber_spheres([[-0.03, 0.02, 0.035]], 0.01, R, 0.0, H, sector=180) > 0

@@ -230,3 +230,22 @@ def test_ring_average_cylindrical_and_cartesian():
     assert grid.shape == (1, 2, 3, 3)
     assert np.allclose(grid[0, 1], 2 * half, rtol=1e-12)
     assert np.allclose(grid[0, 0] + grid[0, 1], 2 * avg, rtol=1e-12)
+
+
+def test_ring_average_of_a_sector():
+    """A quarter chamber holds the grains of a quarter ring: its average over
+    the quarter's volume is that of the full ring with the grains repeated
+    in the four quarters."""
+    rad, rc = 0.2, 2.0
+    phi = np.radians([20.0, 45.0, 70.0])
+    quarter = np.stack([rc * np.cos(phi), rc * np.sin(phi), np.zeros(3)], 1)
+    full = np.concatenate([quarter @ np.array([[np.cos(t), np.sin(t), 0], [-np.sin(t), np.cos(t), 0],
+                                                [0, 0, 1]]) for t in np.radians([0, 90, 180, 270])])
+    iso = np.tile(7.0 * np.eye(3), (len(full), 1, 1))
+    a = ring_average(iso[:3], quarter, rad, 1.5, 2.5, -0.5, 0.5, sector=90)
+    b = ring_average(iso, full, rad, 1.5, 2.5, -0.5, 0.5)
+    np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-15)
+    g = ring_averages(iso[:3], quarter, rad, [1.5, 2.5], [-0.5, 0.5], sector=90)
+    np.testing.assert_allclose(g[0, 0], b, rtol=1e-12, atol=1e-15)
+    with pytest.raises(ValueError, match="sector"):
+        ring_average(iso, full, rad, 1.5, 2.5, -0.5, 0.5, sector=0)
