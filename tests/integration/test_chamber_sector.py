@@ -93,7 +93,7 @@ include ${{inputs}}/friction_ne34.in
 fix servo all servo/radial mesh chamber target {T1!r} gain {K1!r} vmax {VMAX1!r} &
     height v_Hs sector {sector!r}
 thermo_style custom step f_servo[1] f_servo[2] f_servo[3] v_sig_wall
-thermo_modify format float %.12g
+thermo_modify format float %.12g lost error
 thermo {thermo}
 run {steps1}
 
@@ -111,7 +111,7 @@ variable vz   equal f_jack[1]
 fix mv_cone  all move/mesh mesh cone  linear/variable v_zero v_zero v_vz
 fix mv_shaft all move/mesh mesh shaft linear/variable v_zero v_zero v_vz
 thermo_style custom step f_jack[2] f_jack[3] f_jack[4] f_jack[5] f_cone[3] f_shaft[3]
-thermo_modify format float %.15g
+thermo_modify format float %.15g lost error
 run {steps2}
 """
 

@@ -96,7 +96,7 @@ fix             jack all jack/pile cone cone shaft shaft {jack_args}
 {MOVE_LINES if move else ""}
 fix             integ all nve
 thermo_style    custom step time f_jack[1] f_jack[2] f_jack[3] f_jack[4] f_jack[5] f_jack[6] f_jack[7]
-thermo_modify   format float %.17g
+thermo_modify   format float %.17g lost error
 thermo          1
 run             {nsteps}
 """
@@ -283,6 +283,7 @@ fix             jack all jack/pile cone cone shaft shaft {jack_args} file jack.t
 {MOVE_LINES}
 variable        phase equal f_jack[6]
 thermo_style    custom step atoms f_jack[2] f_jack[3] f_jack[4] f_jack[5] f_jack[6] f_jack[7]
+thermo_modify   lost error
 thermo          2000
 variable        chunk loop {max_chunks}
 label           chunks

@@ -82,6 +82,7 @@ include ${{inputs}}/prepare_expand.in
 dump pairs all local {every} pairs.*.txt c_pgl[1] c_pgl[2] c_pgl[3] c_pgl[4] c_pgl[5] c_pgl[6] c_pgl[7] c_pgl[8] c_pgl[9]
 dump walls all local {every} walls.*.txt c_wgl[1] c_wgl[2] c_wgl[3] c_wgl[4] c_wgl[5] c_wgl[6] c_wgl[7] c_wgl[8] c_wgl[9]
 thermo_style custom step atoms v_sx v_sy v_sz v_porosity
+thermo_modify lost error
 thermo {every}
 run 4000
 """
