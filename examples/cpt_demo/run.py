@@ -203,6 +203,11 @@ def postprocess(a, out, wall, n0, tip_z0):
         inside = inside_pile(hh, r)
         n_inside = int(inside.sum())
         ev_depth = (z_ref - z_tip) * 1e3
+        np.savetxt(os.path.join(out, "breakage_map.txt"),
+                   np.column_stack([events["step"], hh, r, ev_depth, inside]),
+                   fmt=["%d", "%.10g", "%.10g", "%.10g", "%d"],
+                   header="breakage events relative to the tip (R = %g m, sand surface z_ref = "
+                   "%.10g m): step h/R r/R tip_depth_mm inside_pile" % (a.R_pile, z_ref))
         fig, ax = plt.subplots(figsize=(5.2, 5))
         _pile_outline(ax, float(hh.max()))
         sc = ax.scatter(r, hh, s=8, c=ev_depth, cmap="viridis", zorder=2)
