@@ -6,8 +6,16 @@
 Builds the loose packing and the meshes, runs LIGGGHTS (preparation by radius
 expansion, servo to 150 kPa vertical / 76 kPa radial, then jacking with the
 lateral wall held), and writes into --out: summary.json, qc_depth.png (q_c
-against depth with the fitted trend q_c = a (1 - exp(-b h))), breakage_map.png
-(breakage events around the tip), jack.txt, breakage_events.txt, log.liggghts.
+against depth with the trend q_c = a (1 - exp(-b h)) fitted to virgin
+penetration), breakage_map.png and breakage_map.txt (breakage events in
+(h/R, r/R) relative to the tip), jack.txt, breakage_events.txt,
+outside_grains.txt, log.liggghts.
+
+Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
+grain is outside the chamber at the end, the mass balance is off by more
+than 1e-12, the grain count differs from the count at the start of jacking
+plus 13 per break, or a breakage event lies inside the pile; LIGGGHTS' own
+exit status when it stops (e.g. lost atoms).
 """
 
 import argparse
