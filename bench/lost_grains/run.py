@@ -96,10 +96,19 @@ def main(argv=None):
     p.add_argument("--prep-loops", type=int, default=40)
     p.add_argument("--servo-steps", type=int, default=20000)
     p.add_argument("--every", type=int, default=500, help="steps between tracking outputs")
+    p.add_argument("--lid", action="store_true",
+                   help="prototype: keep the plug over the hole until the cone's base has passed "
+                   "the top wall (plug_lid.in)")
+    p.add_argument("--jack-args", default=None,
+                   help="fix jack/pile arguments instead of a monotonic push to --depth")
+    p.add_argument("--thermo-every", type=int, default=1000)
+    p.add_argument("--jack-every", type=int, default=200)
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None)
     a = p.parse_args(argv)
     out = os.path.abspath(a.out)
+    if a.liggghts:
+        a.liggghts = os.path.abspath(a.liggghts)      # LIGGGHTS runs in --out
     os.makedirs(out, exist_ok=True)
     c = write_chamber(out, a.N, a.R_ch, a.H_ch, a.R_pile, a.depth, sector=a.sector,
                       rng=a.packing_seed, fast=False)
@@ -108,11 +117,14 @@ def main(argv=None):
     track = os.path.join(out, "track.in")
     with open(track, "w") as f:
         f.write(TRACK.format(every=a.every))
+        if a.lid:
+            f.write(open(os.path.join(HERE, "plug_lid.in")).read())
     v = {"inputs": os.path.join(REPO, "inputs"), "N": a.N, "R_ch": a.R_ch, "H_ch": a.H_ch,
          "R_pile": a.R_pile, "R_hole": r_hole, "sector": a.sector, "grain_model": a.grains,
          "proc_grid": "* * 1", "servo_steps": a.servo_steps, "n_expand_max": a.prep_loops,
-         "s_prep": 50e3, "jack_args": "mode monotonic v %g depth %g" % (a.v_push, a.depth),
-         "jack_every": 200, "spheres_file": track}
+         "s_prep": 50e3, "jack_every": a.jack_every, "thermo_every": a.thermo_every,
+         "jack_args": a.jack_args or "mode monotonic v %g depth %g" % (a.v_push, a.depth),
+         "spheres_file": track}
     cmd = mpirun_command(os.path.join(REPO, "examples", "cpt_demo", "in.cpt"), v, np=a.np,
                          binary=a.liggghts)
     t0 = time.time()
@@ -131,8 +143,8 @@ def main(argv=None):
                        "z_above_top_wall_m": g["z"] - top_at(g["step"]),
                        "diameter_m": 2 * g["radius"],
                        "speed_m_s": math.sqrt(g["vx"] ** 2 + g["vy"] ** 2 + g["vz"] ** 2)})
-    n_break = [ln for ln in log.splitlines() if ln.startswith("CHAMBER")]
-    summary = {"hole_over_R": a.hole, "R_hole_m": r_hole, "grains": c["n"], "sector": a.sector,
+    n_break = [ln for ln in log.splitlines() if ln.startswith("CHAMBER") or ln.startswith("LID")]
+    summary = {"hole_over_R": a.hole, "lid": a.lid, "jack_args": v["jack_args"], "R_hole_m": r_hole, "grains": c["n"], "sector": a.sector,
                "R_ch": a.R_ch, "H_ch": a.H_ch, "depth_target_m": a.depth,
                "grain_model": a.grains, "exit_code": rc, "errors": errors, "wall_s": wall,
                "final_step": int(esc[-1, 0]), "final_tip_depth_m": float(esc[-1, 5]),
