@@ -81,12 +81,27 @@ function(prepare_liggghts_source src dst plugin_dir)
     "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = NULL;"
     "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = fopen(\"/dev/null\",\"w\");")
 
-  # LIGGGHTS 3.8 reports "Lost atoms" whenever the count falls between two
-  # thermo outputs, even when a fix deleted atoms and updated atom->natoms
-  # (fix crush/particle with d_frag_min): compare with the bookkept total.
-  _crush_patch("${dst}/thermo.cpp"
-    "if(ntotal < last_natoms)\n    lost = true;"
-    "if(ntotal < last_natoms && ntotal != atom->natoms)\n    lost = true;")
+  # Lost atoms. LIGGGHTS 3.8's Comm::exchange (every re-neighbouring) resets
+  # atom->natoms to the current count, so atom->natoms is no bookkeeping:
+  # a grain that leaves the box through a fixed boundary is dropped there and
+  # the total follows it. Stock LAMMPS keeps atom->natoms as the bookkept
+  # total (read_data, create_atoms, delete_atoms, fix insert, fix
+  # crush/particle update it): do the same.
+  _crush_patch("${dst}/comm.cpp"
+    "  bigint tmp = atom->nlocal;\n  MPI_Allreduce(&tmp,&atom->natoms,1,MPI_LMP_BIGINT,MPI_SUM,world);\n\n  if (atom->firstgroupname) atom->first_reorder();"
+    "  // atom->natoms is the bookkept total: not reset to the current count here,\n  // so that Thermo::lost_check sees atoms lost on the way (crushable-grain package)\n\n  if (atom->firstgroupname) atom->first_reorder();")
+  # Thermo::lost_check then compares the current count with the bookkept
+  # total (stock: with the count at the previous thermo output, which misses
+  # a loss in an interval where fix crush/particle created more atoms, and
+  # reports the atoms that fix deletes on purpose with d_frag_min).
+  # (Build trees prepared before carry an earlier version of this patch.)
+  set(_lost_earlier "if(ntotal < last_natoms && ntotal != atom->natoms)\n    lost = true;")
+  file(READ "${dst}/thermo.cpp" _thermo)
+  string(FIND "${_thermo}" "${_lost_earlier}" _earlier)
+  if(_earlier EQUAL -1)
+    set(_lost_earlier "if(ntotal < last_natoms)\n    lost = true;")
+  endif()
+  _crush_patch("${dst}/thermo.cpp" "${_lost_earlier}" "if(ntotal != atom->natoms)\n    lost = true;")
 
   # mesh/surface/stress zeroes its total force in pre_force and sums it over
   # the ranks in final_integrate, but not around the set-up of a run, where

@@ -62,7 +62,7 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
   cone_id_(NULL), shaft_id_(NULL), cone_(NULL), shaft_(NULL),
   cone_stress_(NULL), shaft_stress_(NULL),
   have_surface_(false), surface_z_(0.0), check_motion_(true),
-  sector_deg_(360.0), file_name_(NULL), fp_(NULL), every_(1),
+  sector_deg_(360.0), file_name_(NULL), fp_(NULL), every_(1), reference_written_(false),
   started_(false), z_ref_(0.0), v_cmd_(0.0), dt_cmd_(0.0), depth_(0.0),
   f_cone_(0.0), f_shaft_(0.0), f_head_(0.0), z_tip_prev_(0.0), z_shaft_prev_(0.0),
   time_offset_(0.0), restart_time_(0.0), restart_time_pending_(false)
@@ -105,7 +105,8 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
         fprintf(fp_, "\n# forces on the pile from the grains, + up (resisting the push); "
                      "phase 0 push 1 unload 2 pause 3 done (after this step's update); "
                      "v_next = velocity for the next step (+ up)\n");
-        fprintf(fp_, "# step time depth F_cone F_shaft F_head phase cycle v_next\n");
+        // the depth reference and the column names follow in setup(), once
+        // the reference is known (it may be the apex at the first run)
         fflush(fp_);
       }
     }
@@ -363,6 +364,8 @@ void FixJackPile::setup(int)
   // depth is z_ref - z of a mesh node moved by one increment per step: the
   // last increment lands on the stroke end up to a few roundings of numbers
   // of this size (part of the arrival tolerance of the kernel)
+  const char *ref_source = started_ ? "from the restart file" :
+                           have_surface_ ? "keyword surface" : "the apex z at the first run";
   if (!started_) z_ref_ = have_surface_ ? surface_z_ : z_tip;
   params_.round_off = 64.0 * DBL_EPSILON * (fabs(z_ref_) + fabs(z_tip) + params_.depth);
   if (!started_) {
@@ -385,6 +388,23 @@ void FixJackPile::setup(int)
   dt_cmd_ = dt;
   z_tip_prev_ = z_tip;
   z_shaft_prev_ = z_shaft;
+  write_reference(ref_source);
+}
+
+/* ----------------------------------------------------------------------
+   the depth reference in the file's header, once per file: post-processing
+   needs the tip's position, z_ref - depth (e.g. to place breakage events
+   relative to the tip), and z_ref is known only here
+------------------------------------------------------------------------- */
+
+void FixJackPile::write_reference(const char *source)
+{
+  if (!fp_ || reference_written_) return;
+  fprintf(fp_, "# z_ref %.17g m: depth = z_ref - z of the cone apex; z_ref = %s\n", z_ref_,
+          source);
+  fprintf(fp_, "# step time depth F_cone F_shaft F_head phase cycle v_next\n");
+  fflush(fp_);
+  reference_written_ = true;
 }
 
 /* ---------------------------------------------------------------------- */

@@ -53,6 +53,7 @@ class FixJackPile : public Fix {
   char *file_name_;
   FILE *fp_;
   int every_;
+  bool reference_written_;  // the file's header has z_ref and the column names
 
   bool started_;      // the reference and the first stroke are set
   double z_ref_;      // depth = z_ref_ - tip z
@@ -72,6 +73,7 @@ class FixJackPile : public Fix {
   double mesh_min_z(class FixMeshSurface *mesh);
   void check_motion(double z_tip, double z_shaft);
   void write_line(bool force);
+  void write_reference(const char *source);
   double current_time() const;
 };
 

@@ -6,14 +6,23 @@
 Builds the loose packing and the meshes, runs LIGGGHTS (preparation by radius
 expansion, servo to 150 kPa vertical / 76 kPa radial, then jacking with the
 lateral wall held), and writes into --out: summary.json, qc_depth.png (q_c
-against depth with the fitted trend q_c = a (1 - exp(-b h))), breakage_map.png
-(breakage events around the tip), jack.txt, breakage_events.txt, log.liggghts.
+against depth with the trend q_c = a (1 - exp(-b h)) fitted to virgin
+penetration), breakage_map.png and breakage_map.txt (breakage events in
+(h/R, r/R) relative to the tip), jack.txt, breakage_events.txt,
+outside_grains.txt, log.liggghts.
+
+Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
+grain is outside the chamber at the end, the mass balance is off by more
+than 1e-12, the grain count differs from the count at the start of jacking
+plus 13 per break, or a breakage event lies inside the pile; LIGGGHTS' own
+exit status when it stops (e.g. lost atoms).
 """
 
 import argparse
 import json
 import math
 import os
+import re
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -24,16 +33,17 @@ import numpy as np  # noqa: E402
 
 from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
+from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
+from crushpost.pile import PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 from crushpost.snapshot import list_snapshots  # noqa: E402
 from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,  # noqa: E402
                                read_sphere_series, write_sphere_block)
-from crushpost.thermo import read_log  # noqa: E402
-from crushpost.trend import fit_qc_trend, qc_trend  # noqa: E402
+from crushpost.thermo import parse_log  # noqa: E402
+from crushpost.trend import fit_qc_trend, qc_trend, virgin_mask  # noqa: E402
 
 RHO = 2600.0
-JACK_COLUMNS = ("step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase", "cycle")
 OUTPUT_BLOCK = {"none": "none", "particles": "vtk_dumps", "contacts": "vtk_dumps_contacts"}
 SPHERE_RADIUS_D50 = 1.5            # measurement-sphere radius in d50
 
@@ -107,9 +117,52 @@ def run_deck(a, out, tip_z0):
     return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts, name="cpt")
 
 
-def read_jack(path):
-    data = np.loadtxt(path, comments="#", ndmin=2)
-    return {k: data[:, i] for i, k in enumerate(JACK_COLUMNS[:data.shape[1]])}
+# The demo stops with a non-zero exit when any of these fails (issue 5 item 6).
+MASS_BALANCE_TOL = 1e-12          # relative: (M_grains + fines - M0) / M0
+_OUTSIDE = re.compile(r"CHAMBER outside (\d+) grains")
+
+
+def grains_outside(log_text):
+    """The count printed by inputs/chamber_outside.in at the end of the run
+    (grains whose centre is outside the chamber), or None."""
+    found = _OUTSIDE.findall(log_text)
+    return int(found[-1]) if found else None
+
+
+def failed_checks(summary):
+    """Messages for every check the run fails: grains outside the chamber,
+    the mass balance, the atom count against the breaks, breakage events
+    inside the pile."""
+    bad = []
+    n_out = summary.get("n_grains_outside")
+    if n_out is None:
+        bad.append("log.liggghts: no 'CHAMBER outside' line (inputs/chamber_outside.in did "
+                   "not run): the grains outside the chamber were not counted")
+    elif n_out > 0:
+        bad.append("summary.json n_grains_outside = %d: grains left the chamber (their ids "
+                   "and positions: outside_grains.txt)" % n_out)
+    err = summary["mass_balance_rel_error"]
+    if not err <= MASS_BALANCE_TOL:
+        bad.append("summary.json mass_balance_rel_error = %.3g > %g: grain mass + fines "
+                   "differ from the mass at the start of jacking" % (err, MASS_BALANCE_TOL))
+    if summary["n_particles_final"] != summary["n_particles_expected"]:
+        bad.append("summary.json n_particles_final = %d, but the start of jacking (%d) plus "
+                   "13 per breakage event (%d) gives %d: atoms were lost or created"
+                   % (summary["n_particles_final"], summary["n_particles_jacking_start"],
+                      summary["n_break_events"], summary["n_particles_expected"]))
+    if summary.get("n_events_inside_pile", 0) > 0:
+        bad.append("summary.json n_events_inside_pile = %d: breakage events with the parent's "
+                   "centre inside the pile (breakage_events.txt)" % summary["n_events_inside_pile"])
+    return bad
+
+
+def _pile_outline(ax, h_max):
+    # the pile in the (r/R, h/R) plane: 60 degree cone, shaft above
+    h_cone = 1.0 / math.tan(math.radians(0.5 * PILE_APEX_ANGLE_DEG))
+    top = max(h_max, h_cone) + 0.5
+    ax.fill([0.0, 1.0, 1.0, 0.0], [0.0, h_cone, top, top], color="0.85", lw=0, zorder=0,
+            label="pile")
+    ax.plot([0.0, 1.0, 1.0], [0.0, h_cone, top], color="k", lw=0.8, zorder=1)
 
 
 def postprocess(a, out, wall, n0, tip_z0):
@@ -118,55 +171,82 @@ def postprocess(a, out, wall, n0, tip_z0):
     import matplotlib.pyplot as plt
 
     jack = read_jack(os.path.join(out, "jack.txt"))
+    if jack["z_ref"] is None:
+        raise SystemExit("cpt_demo: %s has no '# z_ref' header line (a LIGGGHTS binary "
+                         "built before fix jack/pile wrote it): the tip position is unknown"
+                         % os.path.join(out, "jack.txt"))
+    z_ref = jack["z_ref"]                 # the sand surface at the start of jacking
+    depth, phase = jack["depth"], jack["phase"]
     area = math.pi * a.R_pile ** 2
     qc = jack["F_cone"] / area
-    push = (jack["phase"] == 0) & (jack["depth"] > 0)
+    push = phase == PHASE_PUSH
+    # steady state from virgin penetration only: a re-push after an unload
+    # enters once it passes the previous deepest point
+    virgin = virgin_mask(depth, phase) & (depth > 0)
     # over a shallow push q_c has not levelled off: bound b so that a stays a
     # finite (lower) estimate of the plateau, and say whether it levelled off
-    h_max = jack["depth"][push].max()
-    fit = fit_qc_trend(jack["depth"][push], qc[push], b_min=1.0 / h_max)
+    h_max = depth[virgin].max()
+    fit = fit_qc_trend(depth[virgin], qc[virgin], b_min=1.0 / h_max)
     levelled_off = bool(fit.b * h_max > 3.0)
 
-    blocks = [b for b in read_log(os.path.join(out, "log.liggghts")) if "qc" in b]
+    log_path = os.path.join(out, "log.liggghts")
+    with open(log_path) as f:
+        log_text = f.read()
+    blocks = [b for b in parse_log(log_text) if "qc" in b]
     last = blocks[-1]
     M0 = blocks[0]["M_grains"][0]
+    n_jack0 = int(blocks[0]["Atoms"][0])
     fines = last["fines"][-1]
     mass_err = abs(last["M_grains"][-1] + fines - M0) / M0
-
-    events = None
-    ev_path = os.path.join(out, "breakage_events.txt")
-    if os.path.exists(ev_path):
-        events = read_crush_log(ev_path)
     n_events = int(last["n_break"][-1])
 
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
-    ax.plot(qc / 1e6, jack["depth"] * 1e3, "-", lw=0.8, color="0.6", label="q_c (all phases)")
-    ax.plot(qc[push] / 1e6, jack["depth"][push] * 1e3, ".", ms=2, label="q_c while pushing")
-    h = np.linspace(0, jack["depth"].max(), 200)
+    ax.plot(qc / 1e6, depth * 1e3, "-", lw=0.8, color="0.6", label="all phases")
+    ax.plot(qc[push & ~virgin] / 1e6, depth[push & ~virgin] * 1e3, "x", ms=3, color="C1",
+            label="re-push after an unload (not fitted)")
+    ax.plot(qc[virgin] / 1e6, depth[virgin] * 1e3, ".", ms=2, color="C0",
+            label="virgin penetration (fitted)")
+    h = np.linspace(0, depth.max(), 200)
     ax.plot(qc_trend(h, fit.a, fit.b) / 1e6, h * 1e3, "k--",
-            label="fit a(1-exp(-bh)): a = %.2f MPa" % (fit.a / 1e6))
+            label="a (1 - exp(-b h)): a = %.2f MPa, b = %.3g 1/m" % (fit.a / 1e6, fit.b))
     ax.invert_yaxis()
     ax.set_xlabel("tip resistance q_c (MPa)")
-    ax.set_ylabel("tip depth (mm)")
+    ax.set_ylabel("tip depth below the sand surface (mm)")
     ax.set_title("cone pile, %s jacking, %s" % (a.mode, a.grains))
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "qc_depth.png"), dpi=120)
     plt.close(fig)
 
     plots = ["qc_depth.png"]
+    n_inside = 0
+    ev_path = os.path.join(out, "breakage_events.txt")
+    events = read_crush_log(ev_path) if os.path.exists(ev_path) else None
     if events is not None and len(events["step"]):
-        z_tip = tip_z0 - np.interp(events["step"], jack["step"], jack["depth"])
-        r = np.hypot(events["x"], events["y"]) / a.R_pile
-        hh = (events["z"] - z_tip) / a.R_pile
-        fig, ax = plt.subplots(figsize=(5, 5))
-        ax.scatter(r, hh, s=6, c=events["step"], cmap="viridis")
-        ax.axvline(1.0, color="k", lw=0.8, ls=":")
-        ax.axhline(0.0, color="k", lw=0.8, ls=":")
-        ax.set_xlabel("r / R")
-        ax.set_ylabel("h / R (height above the tip)")
-        ax.set_title("breakage events around the tip (%d)" % len(r))
+        # tip position at each event from the series' depth reference
+        z_tip = tip_z_at(events["step"], jack["step"], depth, z_ref)
+        hh, r = relative_to_tip(events["x"], events["y"], events["z"], z_tip, a.R_pile)
+        inside = inside_pile(hh, r)
+        n_inside = int(inside.sum())
+        ev_depth = (z_ref - z_tip) * 1e3
+        np.savetxt(os.path.join(out, "breakage_map.txt"),
+                   np.column_stack([events["step"], hh, r, ev_depth, inside]),
+                   fmt=["%d", "%.10g", "%.10g", "%.10g", "%d"],
+                   header="breakage events relative to the tip (R = %g m, sand surface z_ref = "
+                   "%.10g m): step h/R r/R tip_depth_mm inside_pile" % (a.R_pile, z_ref))
+        fig, ax = plt.subplots(figsize=(5.2, 5))
+        _pile_outline(ax, float(hh.max()))
+        sc = ax.scatter(r, hh, s=8, c=ev_depth, cmap="viridis", zorder=2)
+        if n_inside:
+            ax.plot(r[inside], hh[inside], "rx", ms=6, zorder=3, label="inside the pile (error)")
+            ax.legend(fontsize=7)
+        fig.colorbar(sc, ax=ax, label="tip depth at the event (mm)")
+        ax.axhline(0.0, color="k", lw=0.6, ls=":")
+        ax.set_xlim(0.0, max(2.0, float(r.max()) * 1.05))
+        ax.set_xlabel("r / R, distance from the pile axis (-)")
+        ax.set_ylabel("h / R, height above the cone apex (-)")
+        ax.set_title("%d breakage events around the tip (R = %g mm)" % (len(r), a.R_pile * 1e3))
         ax.grid(True, alpha=0.3)
         fig.tight_layout()
         fig.savefig(os.path.join(out, "breakage_map.png"), dpi=120)
@@ -178,6 +258,10 @@ def postprocess(a, out, wall, n0, tip_z0):
         "qc_fit_b_err": fit.b_err, "qc_levelled_off": levelled_off, "n_break_events": n_events,
         "fines_mass_fraction": float(fines / M0), "mass_balance_rel_error": float(mass_err),
         "n_particles_initial": int(n0), "n_particles_final": int(last["Atoms"][-1]),
+        "n_particles_jacking_start": n_jack0, "n_particles_expected": n_jack0 + 13 * n_events,
+        "n_grains_outside": grains_outside(log_text), "n_events_inside_pile": n_inside,
+        "qc_fit_points": int(virgin.sum()), "qc_fit_excluded_repush_points": int((push & ~virgin).sum()),
+        "sand_surface_z_m": z_ref,
         "final_depth_m": float(jack["depth"].max()), "cycles": int(jack["cycle"].max()) if "cycle" in jack else 0,
         "wall_time_s": wall, "mpi_ranks": a.np, "mode": a.mode, "grains": a.grains, "N": a.N,
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
@@ -197,6 +281,7 @@ def postprocess(a, out, wall, n0, tip_z0):
             "final_mean_stress_kPa": [float(np.trace(sg) / 3e3) for sg in sigma[-1]],
             "final_sigma_zz_kPa": [float(sg[2, 2] / 1e3) for sg in sigma[-1]],
         }
+    summary["failed_checks"] = failed_checks(summary)
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
@@ -244,9 +329,20 @@ def main(argv=None):
     a.out = os.path.abspath(a.out)          # LIGGGHTS runs in --out: paths given to it are absolute
     os.makedirs(a.out, exist_ok=True)
     n0, tip_z0 = build(a, a.out)
-    wall = run_deck(a, a.out, tip_z0)
-    print(json.dumps(postprocess(a, a.out, wall, n0, tip_z0), indent=2))
-    return 0
+    try:
+        wall = run_deck(a, a.out, tip_z0)
+    except SystemExit:
+        # name LIGGGHTS' error (e.g. "Lost atoms: original ... current ...")
+        errors = [ln.strip() for ln in open(os.path.join(a.out, "log.liggghts"), errors="replace")
+                  if ln.startswith("ERROR")]
+        if errors:
+            sys.stderr.write("cpt_demo: %s: %s\n" % (os.path.join(a.out, "log.liggghts"), errors[-1]))
+        raise
+    summary = postprocess(a, a.out, wall, n0, tip_z0)
+    print(json.dumps(summary, indent=2))
+    for msg in summary["failed_checks"]:
+        sys.stderr.write("cpt_demo: FAILED: %s\n" % msg)
+    return 1 if summary["failed_checks"] else 0
 
 
 if __name__ == "__main__":

@@ -3,7 +3,9 @@
 Pure functions on numpy arrays; see each module for units and conventions.
 
 * :mod:`crushpost.breakage` - PSD curves and the Einav breakage index Br.
-* :mod:`crushpost.trend` - fit q_c(h) = a (1 - exp(-b h)).
+* :mod:`crushpost.trend` - fit q_c(h) = a (1 - exp(-b h)); virgin penetration.
+* :mod:`crushpost.pile` - the fix jack/pile series, the tip position, points
+  (breakage events) relative to the tip.
 * :mod:`crushpost.stress` - p, q, principal stresses, cylindrical components,
   particle / measurement-sphere stresses, ring volume averages.
 * :mod:`crushpost.thermo` - thermo blocks of LIGGGHTS/LAMMPS logs.
@@ -24,7 +26,8 @@ from .stress import (Invariants, cylindrical_basis, invariants, pair_contact_ter
                      particle_stress, ring_average, ring_averages, sphere_ring_volume,
                      sphere_stress, to_cylindrical, to_cylindrical_tensor)
 from .thermo import concat_blocks, parse_log, read_log, summarize
-from .trend import QcFit, fit_qc_trend, qc_trend
+from .trend import QcFit, fit_qc_trend, qc_trend, virgin_mask
+from .pile import inside_pile, read_jack, relative_to_tip, tip_z_at
 
 __all__ = [
     "N_BINS", "W_FRACTAL", "Breakage", "BreakFines", "bin_integrals",
@@ -37,5 +40,6 @@ __all__ = [
     "particle_stress", "ring_average", "ring_averages", "sphere_ring_volume",
     "sphere_stress", "to_cylindrical", "to_cylindrical_tensor",
     "concat_blocks", "parse_log", "read_log", "summarize",
-    "QcFit", "fit_qc_trend", "qc_trend",
+    "QcFit", "fit_qc_trend", "qc_trend", "virgin_mask",
+    "inside_pile", "read_jack", "relative_to_tip", "tip_z_at",
 ]

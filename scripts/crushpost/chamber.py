@@ -30,8 +30,75 @@ N_ATOM_TYPES = 4         # material types of inputs/materials_ne34.in
 
 
 def hole_radius(r_pile):
-    """Radius of the top wall's hole for the pile (1.25 R)."""
-    return 1.25 * r_pile
+    """Radius of the top wall's hole for the pile: R, the circle through the
+    shaft's vertices.
+
+    Grains escaped through a wider hole: 1.25 R left a ring 4.5 mm wide
+    around the shaft (R = 18 mm), which fragments (1.0-3.4 mm at N = 39) and
+    the smallest unbroken grains passed. The hole polygon (the annulus' inner
+    ring, 7.5 degree segments whose vertices include every vertex of the
+    24-segment shaft) now holds the shaft polygon and touches it at the
+    shaft's vertices; the widest gap, in the middle of a shaft facet, is
+    R (1 - cos(pi / 24)) = 0.0086 R (0.15 mm for R = 18 mm), under the
+    smallest fragment for N >= 6 (:func:`hole_gap`,
+    :func:`smallest_fragment_diameter`). Rigid meshes do not collide, so the
+    pile still moves freely through it.
+    """
+    return float(r_pile)
+
+
+def _small_fragment_ratio():
+    # the small sphere of the 14-sphere Apollonian fragmentation (SPEC
+    # section 2), at distance u = r - r2 along a cube diagonal, touches three
+    # large ones (r1 = r / (1 + sqrt 2), at a = r - r1 on the axes):
+    # u^2 - 2 a u / sqrt 3 + a^2 = (r + r1 - u)^2, linear in u (r = 1)
+    r1 = 1.0 / (1.0 + math.sqrt(2.0))
+    a, b = 1.0 - r1, 1.0 + r1
+    return 1.0 - (b * b - a * a) / (2.0 * b - 2.0 * a / math.sqrt(3.0))
+
+
+#: Small-fragment radius over parent radius, 0.230093...
+SMALL_FRAGMENT_RATIO = _small_fragment_ratio()
+
+
+def smallest_fragment_diameter(N, d_comm_over_d50=0.55):
+    """Diameter [m] of the smallest fragment that can exist at up-scaling N:
+    the small fragment of the smallest breakable grain (d = d_comm =
+    0.55 d50, d50 = 0.21 mm N): 0.230093 d_comm, 1.04 mm at N = 39."""
+    return SMALL_FRAGMENT_RATIO * d_comm_over_d50 * D50_NE34 * N
+
+
+def _polygon_radius(theta, r_vertex, phi0, dphi):
+    # distance from the axis to a regular polygon's edge (vertices at radius
+    # r_vertex, azimuths phi0 + k dphi) along the ray at azimuth theta
+    t = np.mod(theta - phi0, dphi) - 0.5 * dphi
+    return r_vertex * math.cos(0.5 * dphi) / np.cos(t)
+
+
+def hole_gap(r_pile, r_hole, n_seg_pile=24, n_seg_hole=N_SEG_FULL, phi0_hole=0.0,
+             phi1_hole=360.0, n_theta=20000):
+    """Radial gap [m] between the shaft polygon (``n_seg_pile`` vertices at
+    radius ``r_pile``, azimuths 360 k / n_seg_pile, crushpost.meshes) and the
+    hole polygon of the top wall (``n_seg_hole`` segments from azimuth
+    ``phi0_hole`` to ``phi1_hole``, vertices at ``r_hole``), over the hole's
+    arc: returns (smallest, largest). A sphere whose diameter exceeds the
+    largest radial gap cannot pass (its equator, in the wall's plane, would
+    have to fit between the polygons along the radius through its centre);
+    a negative smallest gap means the wall cuts into the shaft.
+    """
+    dphi_h = math.radians(phi1_hole - phi0_hole) / n_seg_hole
+    dphi_p = 2.0 * math.pi / n_seg_pile
+    a0, a1 = math.radians(phi0_hole), math.radians(phi1_hole)
+    # a fine sweep plus the extremes' candidates: both polygons' vertices and
+    # facet middles
+    theta = np.concatenate([
+        np.linspace(a0, a1, n_theta),
+        a0 + dphi_h * np.arange(n_seg_hole + 1), a0 + dphi_h * (np.arange(n_seg_hole) + 0.5),
+        dphi_p * np.arange(-n_seg_pile, 2 * n_seg_pile) / 2.0])
+    theta = theta[(theta >= a0) & (theta <= a1)]
+    gap = (_polygon_radius(theta, r_hole, a0, dphi_h)
+           - _polygon_radius(theta, r_pile, 0.0, dphi_p))
+    return float(gap.min()), float(gap.max())
 
 
 def symmetry_planes(sector, radius, z_lo, z_hi, far_side):

@@ -7,11 +7,13 @@ import sys
 import numpy as np
 
 from .breakage import W_FRACTAL, break_fines, breakage, sphere_mass
+from .chamber import hole_gap, hole_radius, smallest_fragment_diameter
 from .dump import read_crush_log, read_dump
 from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
-from .trend import fit_qc_trend
+from .pile import read_jack
+from .trend import fit_qc_trend, virgin_mask
 
 # Calibrated NE34 limits at real size (SPEC 3) [m]; scaled by N.
 D_MIN_REAL = 0.01e-3
@@ -75,12 +77,38 @@ def _cmd_br(args):
     return 0
 
 
+def _is_jack_series(path):
+    with open(path) as fh:
+        for line in fh:
+            if not line.startswith("#"):
+                return False
+            if line.startswith("# fix jack/pile") or line.split()[1:4] == ["step", "time", "depth"]:
+                return True
+    return False
+
+
 def _cmd_fit_qc(args):
-    data = np.loadtxt(args.file, ndmin=2)
-    if data.shape[1] < 2:
-        raise ValueError("%s: need two columns, h and q_c" % args.file)
-    fit = fit_qc_trend(data[:, 0], data[:, 1])
-    print(json.dumps(fit._asdict()))
+    if _is_jack_series(args.file):
+        # a fix jack/pile series: q_c = F_cone / (pi R^2) on virgin penetration
+        # only (pushing, tip at its deepest so far, below the surface)
+        if args.pile_radius is None or not args.pile_radius > 0:
+            raise ValueError("%s is a fix jack/pile series: give --pile-radius R [m] "
+                             "(q_c = F_cone / (pi R^2))" % args.file)
+        jack = read_jack(args.file)
+        mask = virgin_mask(jack["depth"], jack["phase"]) & (jack["depth"] > 0)
+        h = jack["depth"][mask]
+        q = jack["F_cone"][mask] / (np.pi * args.pile_radius ** 2)
+        extra = {"n_points": int(mask.sum()),
+                 "n_excluded": int(mask.size - mask.sum()),
+                 "points": "virgin penetration"}
+    else:
+        data = np.loadtxt(args.file, ndmin=2)
+        if data.shape[1] < 2:
+            raise ValueError("%s: need two columns, h and q_c" % args.file)
+        h, q = data[:, 0], data[:, 1]
+        extra = {"n_points": int(h.size), "n_excluded": 0, "points": "all"}
+    fit = fit_qc_trend(h, q)
+    print(json.dumps(dict(fit._asdict(), **extra)))
     return 0
 
 
@@ -103,6 +131,15 @@ def _cmd_pile(args):
     info = write_pile_stl(args.out, args.radius, args.shaft_length, tip_z=args.tip_z,
                           n_seg=args.segments, n_rings=args.shaft_rings,
                           cone_name=args.cone_name, shaft_name=args.shaft_name)
+    # the top wall's hole for this pile (crushpost.chamber.hole_radius) and
+    # the widest gap a grain could pass through
+    r_hole = hole_radius(args.radius)
+    lo, hi = hole_gap(args.radius, r_hole, args.segments, args.hole_segments)
+    info["hole"] = {"radius": r_hole, "segments": args.hole_segments, "gap_min": lo,
+                    "gap_max": hi}
+    if args.N is not None:
+        d_frag = smallest_fragment_diameter(args.N)
+        info["hole"].update(N=args.N, smallest_fragment=d_frag, closed_to_fragments=hi < d_frag)
     print(json.dumps(info))
     return 0
 
@@ -170,8 +207,14 @@ def build_parser():
                     help="print Br, Br_einav (unbounded), B_t, B_p, ... as JSON")
     br.set_defaults(func=_cmd_br)
 
-    fq = sub.add_parser("fit-qc", help="fit q_c(h) = a (1 - exp(-b h)); prints JSON")
-    fq.add_argument("file", help="text file with columns h and q_c ('#' comments)")
+    fq = sub.add_parser("fit-qc", help="fit q_c(h) = a (1 - exp(-b h)); prints JSON "
+                        "(a, b, their errors, the points used)")
+    fq.add_argument("file", help="text file with columns h and q_c ('#' comments; every "
+                    "point is fitted), or the time series of fix jack/pile (jack.txt: only "
+                    "virgin penetration is fitted, i.e. pushing with the tip at its deepest "
+                    "so far; re-pushes after an unload enter once past the deepest point)")
+    fq.add_argument("--pile-radius", type=float,
+                    help="pile radius R [m], for a jack/pile series: q_c = F_cone / (pi R^2)")
     fq.set_defaults(func=_cmd_fit_qc)
 
     th = sub.add_parser("thermo", help="column summary of the thermo output of a log")
@@ -190,6 +233,14 @@ def build_parser():
                     help="facets around the axis (default 24, at least 3)")
     pl.add_argument("--shaft-rings", type=int, default=None,
                     help="axial divisions of the shaft (default: facets no taller than 2 R)")
+    pl.add_argument("--hole-segments", type=int, default=48,
+                    help="segments of the top wall's hole polygon, for the reported gap "
+                    "(default 48, the chamber's; a multiple of --segments keeps the gap "
+                    "at R (1 - cos(pi / segments)))")
+    pl.add_argument("--N", type=float, default=None,
+                    help="particle up-scaling factor: also report the smallest fragment "
+                    "(0.230093 d_comm, d_comm = 0.55 d50 = 0.55 * 0.21 mm * N) and whether "
+                    "the hole's widest gap is below it")
     pl.add_argument("--out", required=True, help="output folder (created if missing)")
     pl.add_argument("--cone-name", default="cone.stl", help="file name of the cone (cone.stl)")
     pl.add_argument("--shaft-name", default="shaft.stl",

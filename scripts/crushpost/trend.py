@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import curve_fit
 
-__all__ = ["qc_trend", "QcFit", "fit_qc_trend"]
+__all__ = ["qc_trend", "QcFit", "fit_qc_trend", "virgin_mask"]
 
 
 def qc_trend(h, a, b):
@@ -81,3 +81,27 @@ def fit_qc_trend(h, q_c, p0=None, sigma=None, b_min=None):
                                bounds=([-np.inf, b_min], [np.inf, np.inf]))
     err = np.sqrt(np.diag(pcov))
     return QcFit(float(popt[0]), float(popt[1]), float(err[0]), float(err[1]))
+
+
+def virgin_mask(depth, phase=None, atol=None, push_phase=0):
+    """Points of virgin penetration: the pile is pushing (``phase ==
+    push_phase``, when ``phase`` is given) and the tip is at its deepest so
+    far, i.e. ``depth`` is within ``atol`` of its running maximum over all
+    earlier points. A re-push after an unload re-enters only once it passes
+    the previous deepest point. ``atol`` (depth units) defaults to the
+    round-off of the depths, 64 machine epsilons of the largest one.
+
+    Parameters: ``depth`` (n,) in time order; ``phase`` (n,) or None.
+    Returns a boolean (n,) array.
+    """
+    d = np.asarray(depth, dtype=float).ravel()
+    if atol is None:
+        atol = 64.0 * np.finfo(float).eps * (float(np.max(np.abs(d))) if d.size else 0.0)
+    deepest = np.maximum.accumulate(d) if d.size else d
+    mask = d >= deepest - atol
+    if phase is not None:
+        ph = np.asarray(phase).ravel()
+        if ph.shape != d.shape:
+            raise ValueError("depth and phase must have the same length")
+        mask &= ph == push_phase
+    return mask

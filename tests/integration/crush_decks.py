@@ -200,6 +200,7 @@ communicate single vel yes
 create_box {n} box
 neighbor {skin!r} bin
 neigh_modify delay 0
+thermo_modify lost error
 fix m1 all property/global youngsModulus peratomtype {E}
 fix m2 all property/global poissonsRatio peratomtype {nu}
 fix m3 all property/global coefficientRestitution peratomtypepair {n} {e}

@@ -130,6 +130,7 @@ processors      {processors}
 read_data       grains.data
 neighbor        {skin!r} bin
 neigh_modify    delay 0
+thermo_modify   lost error
 fix m1 all property/global youngsModulus peratomtype {E_GRAIN!r} {E_WALL!r}
 fix m2 all property/global poissonsRatio peratomtype {NU_GRAIN!r} {NU_WALL!r}
 fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5

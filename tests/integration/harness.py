@@ -22,10 +22,15 @@ import os
 import re
 import shutil
 import subprocess
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
+
+if str(Path(__file__).resolve().parent) not in sys.path:      # deck_lint beside this file
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+import deck_lint  # noqa: E402
 
 __all__ = [
     "REPO", "liggghts_bin", "mpirun_cmd", "RunResult", "ThermoBlock",
@@ -314,15 +319,25 @@ class RunResult:
 
 
 def run_deck(deck_text, workdir, nprocs=1, variables=None, timeout=DEFAULT_TIMEOUT,
-             check=False, extra_args=None, env=None):
+             check=False, extra_args=None, env=None, lost_ok=False):
     """Write ``deck_text`` to ``workdir/in.deck`` and run it with mpirun.
 
     variables: dict NAME -> value, passed as ``-var NAME VALUE`` (the value may
     be a list/tuple for index-style variables with several strings).
     check: if True, raise :class:`DeckError` when the run fails.
+    lost_ok: the deck may run with lost atoms not an error (only for a deck
+    that removes atoms on purpose); otherwise a deck with a `run` that is not
+    under `thermo_modify lost error` is refused (deck_lint.py).
     Returns a :class:`RunResult`; a run past ``timeout`` seconds raises
     :class:`DeckError` with whatever log was written.
     """
+    if not lost_ok:
+        problems = deck_lint.lost_error_problems(
+            deck_text, DECK_NAME, {k: str(v) for k, v in (variables or {}).items()},
+            base=workdir)
+        if problems:
+            raise DeckError("every deck must make lost atoms an error (LIGGGHTS 3.8's "
+                            "thermo_style resets thermo_modify):\n  " + "\n  ".join(problems))
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     (workdir / DECK_NAME).write_text(deck_text if deck_text.endswith("\n") else deck_text + "\n")

@@ -45,6 +45,7 @@ def settle_deck(R_cell, dt, steps):
     return header("grains.data", R_cell, dt) + f"""\
 include         ${{inputs}}/integrate.in
 thermo_style    custom step atoms ke
+thermo_modify   lost error
 thermo          5000
 run             {steps}
 write_data      settled.data

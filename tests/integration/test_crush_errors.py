@@ -64,6 +64,7 @@ create_box 1 box
 mass 1 1.0e-6
 create_atoms 1 single 0 0 0 units box
 timestep {dt!r}
+thermo_modify lost error
 """
     return setup + f"fix crush all crush/particle {crush_args}\nrun {nsteps}\n"
 

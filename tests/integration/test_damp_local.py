@@ -54,6 +54,7 @@ region          box block {box} units box
 create_box      1 box
 neighbor        0.001 bin
 neigh_modify    delay 0
+thermo_modify   lost error
 fix m1 all property/global youngsModulus peratomtype {YOUNG!r}
 fix m2 all property/global poissonsRatio peratomtype {POISSON!r}
 fix m3 all property/global coefficientRestitution peratomtypepair 1 0.9

@@ -96,7 +96,7 @@ fix             jack all jack/pile cone cone shaft shaft {jack_args}
 {MOVE_LINES if move else ""}
 fix             integ all nve
 thermo_style    custom step time f_jack[1] f_jack[2] f_jack[3] f_jack[4] f_jack[5] f_jack[6] f_jack[7]
-thermo_modify   format float %.17g
+thermo_modify   format float %.17g lost error
 thermo          1
 run             {nsteps}
 """
@@ -283,6 +283,7 @@ fix             jack all jack/pile cone cone shaft shaft {jack_args} file jack.t
 {MOVE_LINES}
 variable        phase equal f_jack[6]
 thermo_style    custom step atoms f_jack[2] f_jack[3] f_jack[4] f_jack[5] f_jack[6] f_jack[7]
+thermo_modify   lost error
 thermo          2000
 variable        chunk loop {max_chunks}
 label           chunks
@@ -590,3 +591,45 @@ def test_check_motion_no_switches_the_check_off(tmp_path):
     # the controller commands the push, but nothing moves the meshes
     assert np.all(blk["f_jack[1]"] == -0.5)
     assert np.all(blk["f_jack[2]"] == 0.0)
+
+
+# ---------------------------------------------------------------------------
+# the depth reference in the file's header (post-processing places the tip
+# at z_ref - depth)
+# ---------------------------------------------------------------------------
+
+def test_file_header_has_the_depth_reference(tmp_path):
+    from crushpost.pile import read_jack
+
+    V = 0.5
+    # with `surface`: z_ref is that value, and z_ref - depth is the apex's z
+    z_surf = TIP_A - 0.0031
+    run_empty(tmp_path / "surface",
+              f"mode monotonic v {V} depth 0.001 surface {z_surf!r} file jack.txt every 10", 60)
+    text = (tmp_path / "surface" / "jack.txt").read_text()
+    assert "z_ref = keyword surface" in text
+    j = read_jack(tmp_path / "surface" / "jack.txt")
+    assert j["z_ref"] == z_surf
+    np.testing.assert_allclose(j["z_ref"] - j["depth"], TIP_A - V * DT_A * j["step"], rtol=0,
+                               atol=1e-14)
+    # without: the apex at the first run
+    run_empty(tmp_path / "apex", f"mode monotonic v {V} depth 0.001 file jack.txt every 10", 20)
+    j = read_jack(tmp_path / "apex" / "jack.txt")
+    assert j["z_ref"] == TIP_A
+    assert "z_ref = the apex z at the first run" in (tmp_path / "apex" / "jack.txt").read_text()
+    # after read_restart: the same reference, from the restart file; one
+    # header per file, before the first data line
+    args = f"mode monotonic v {V} depth 0.01 surface {z_surf!r}"
+    pile = lambda out: RESTART_PILE.format(dt=DT_A, args=args, out=out)  # noqa: E731
+    wd = tmp_path / "restart"
+    write_pile(wd, TIP_A)
+    harness.run_deck(RESTART_HEAD + RESTART_BOX + pile("a.txt") + "run 20\nrun 20\n"
+                     "write_restart r.restart\n", wd, timeout=60, check=True)
+    harness.run_deck(RESTART_HEAD + "read_restart r.restart\n" + pile("b.txt") + "run 20\n",
+                     wd, timeout=60, check=True)
+    for name, source in (("a.txt", "keyword surface"), ("b.txt", "from the restart file")):
+        lines = (wd / name).read_text().splitlines()
+        assert [ln for ln in lines if ln.startswith("#")] == lines[:4]
+        assert lines[2].startswith("# z_ref ") and lines[2].endswith("z_ref = " + source)
+        assert lines[3] == "# step time depth F_cone F_shaft F_head phase cycle v_next"
+        assert read_jack(wd / name)["z_ref"] == z_surf

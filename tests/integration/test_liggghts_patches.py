@@ -33,7 +33,7 @@ fix             top all mesh/surface/stress file plate.stl type 2 move 0 0 {z_pl
 fix             walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes top
 fix             integ all nve
 thermo_style    custom step f_top[3]
-thermo_modify   format float %.15g
+thermo_modify   format float %.15g lost error
 thermo          10
 run             50
 run             50

@@ -27,6 +27,7 @@ region box block -0.05 0.05 -0.01 0.01 -0.001 0.01
 create_box 2 box
 neighbor 0.0002 bin
 neigh_modify delay 0
+thermo_modify lost error
 fix m1 all property/global youngsModulus peratomtype 21.6e9 21.6e9
 fix m2 all property/global poissonsRatio peratomtype 0.2 0.2
 fix m3 all property/global coefficientRestitution peratomtypepair 2 0.1 0.1 0.1 0.1
@@ -47,6 +48,7 @@ variable x equal x[1]
 variable vx equal vx[1]
 variable wy equal omegay[1]
 thermo_style custom step time v_x v_vx v_wy
+thermo_modify lost error
 thermo 200
 run 10000
 """

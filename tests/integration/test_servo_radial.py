@@ -109,7 +109,7 @@ include ${{inputs}}/friction_ne34.in
 fix servo all servo/radial mesh chamber target {T1!r} gain {K1!r} vmax {VMAX1!r} &
     height v_Hs axis {x0!r} {y0!r}
 thermo_style custom step f_servo[1] f_servo[2] f_servo[3] v_Hs v_sig_wall
-thermo_modify format float %.12g
+thermo_modify format float %.12g lost error
 thermo {thermo}
 run {steps1}
 
@@ -125,10 +125,11 @@ run {steps_settle}
 # 3. hold: no servo, the wall stands still; a new servo reads its radius
 unfix servo
 thermo_style custom step ke
+thermo_modify lost error
 run {steps_hold}
 fix servo all servo/radial mesh chamber target {T1!r} gain {K1!r} height v_Hs axis {x0!r} {y0!r}
 thermo_style custom step f_servo[1] f_servo[2] f_servo[3] v_Hs
-thermo_modify format float %.12g
+thermo_modify format float %.12g lost error
 run 0
 """
 

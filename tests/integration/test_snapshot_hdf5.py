@@ -121,6 +121,7 @@ fix             snapall all snapshot/hdf5 file all trigger f_jack[6]
 fix             snapv all snapshot/hdf5 file pend trigger v_phase leaving 2
 {dumps}
 thermo_style    custom step atoms f_jack[2] f_jack[6] f_snap f_snapall f_snapv
+thermo_modify   lost error
 thermo          500
 run             {RUN_STEPS}
 print           "FINAL PHASE ${{phase}}"

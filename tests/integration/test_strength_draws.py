@@ -87,6 +87,7 @@ fix crush all crush/particle sigma_lim0 {SIGMA0!r} m ${{m}} d0 {D0!r} scale ${{N
 dump d all custom 1 strength.txt id radius f_crush[1] f_crush[2]
 dump_modify d sort id format "%d %.17g %.17g %.17g"
 thermo_style    custom step atoms f_crush[1] f_crush[2]
+thermo_modify   lost error
 run 0
 """
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from crushpost.trend import fit_qc_trend, qc_trend
+from crushpost.trend import fit_qc_trend, qc_trend, virgin_mask
 
 
 def test_model_values():
@@ -33,3 +33,54 @@ def test_noise_free_is_exact_and_nan_ignored():
     assert fit.b == pytest.approx(4.0, rel=1e-8)
     with pytest.raises(ValueError):
         fit_qc_trend([0.1, 0.2], [1.0, 2.0])
+
+
+def test_virgin_penetration_excludes_every_repush_until_it_passes_the_deepest_point():
+    # push to 3, unload to 2.4, pause, re-push through 3 to 5, unload, re-push
+    depth = np.array([0, 1, 2, 3, 2.8, 2.4, 2.4, 2.5, 2.9, 3.0, 3.2, 4, 5, 4.5, 4.6, 5.2])
+    phase = np.array([0, 0, 0, 0, 1, 1, 2, 0, 0, 0, 0, 0, 0, 1, 0, 0])
+    m = virgin_mask(depth, phase)
+    expect = [1, 1, 1, 1, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 0, 1]
+    assert list(m.astype(int)) == expect
+    # without phases: the running maximum alone (the pause at the deepest
+    # point would count)
+    assert list(virgin_mask([0, 1, 1, 0.5, 2]).astype(int)) == [1, 1, 1, 0, 1]
+    # round-off of the depth: a re-push that arrives 1e-16 m short of the old
+    # deepest point counts as reaching it
+    assert virgin_mask([0.0, 0.03, 0.02, 0.03 - 1e-16], [0, 0, 0, 0]).tolist() == \
+        [True, True, False, True]
+    with pytest.raises(ValueError):
+        virgin_mask([0, 1], [0])
+
+
+def test_fit_on_virgin_points_is_unbiased_by_repushes():
+    """A cyclic record: q_c follows a (1 - exp(-b h)) on virgin penetration;
+    each re-push after an unload reloads from zero and meets the curve only
+    at the previous deepest point. Fitting every push point biases a low;
+    the virgin points give a and b back exactly."""
+    a, b = 6e6, 40.0
+    depth, qc, phase = [], [], []
+    deepest = 0.0
+    for end in (0.02, 0.04, 0.06, 0.08):
+        if deepest > 0:                       # unload by 2 mm, then re-push
+            d_un = deepest - 0.002
+            depth += [deepest - 0.001, d_un]
+            qc += [0.3 * qc_trend(deepest, a, b), 0.0]
+            phase += [1, 1]
+            h = np.linspace(d_un, deepest, 20, endpoint=False)[1:]
+            depth += list(h)
+            qc += list(qc_trend(deepest, a, b) * (h - d_un) / (deepest - d_un))
+            phase += [0] * len(h)
+        h = np.linspace(deepest, end, 60)
+        depth += list(h)
+        qc += list(qc_trend(h, a, b))
+        phase += [0] * len(h)
+        deepest = end
+    depth, qc, phase = map(np.asarray, (depth, qc, phase))
+    push = phase == 0
+    v = virgin_mask(depth, phase)
+    assert v.sum() < push.sum()
+    fit = fit_qc_trend(depth[v], qc[v])
+    assert fit.a == pytest.approx(a, rel=1e-8) and fit.b == pytest.approx(b, rel=1e-8)
+    biased = fit_qc_trend(depth[push], qc[push])
+    assert biased.a < 0.98 * a        # 3.3 % low here
