@@ -30,6 +30,7 @@
 #include "atom.h"
 #include "comm.h"
 #include "compute_pair_gran_local.h"
+#include "crush_args.h"
 #include "domain.h"
 #include "error.h"
 #include "fix_wall_gran.h"
@@ -44,9 +45,6 @@ namespace {
 
 std::string str(const char *a) { return std::string(a ? a : ""); }
 
-const char *kUsage =
-    "compute ID group stress/grain [pair_local CID] [wall_local CID|none]";
-
 }  // namespace
 
 /* ---------------------------------------------------------------------- */
@@ -59,24 +57,18 @@ ComputeStressGrain::ComputeStressGrain(LAMMPS *lmp, int &iarg, int narg, char **
   size_peratom_cols = 9;
   comm_reverse = 9;
 
-  while (iarg < narg) {
-    const std::string key = arg[iarg];
-    if (key != "pair_local" && key != "wall_local")
-      error->all(FLERR, ("compute stress/grain: unknown keyword '" + key +
-                         "'; expected 'pair_local' or 'wall_local' (" + kUsage + ")").c_str());
-    if (iarg + 1 >= narg)
-      error->all(FLERR, ("compute stress/grain: keyword '" + key + "' needs a compute ID (" +
-                         kUsage + ")").c_str());
-    const std::string val = arg[iarg + 1];
-    if (key == "pair_local") {
-      pair_id_ = val;
-    } else if (val == "none") {
-      wall_none_ = true;
+  // compute ID group stress/grain [pair_local CID] [wall_local CID|none]
+  CrushArgs a(error, "compute stress/grain", narg, arg, iarg, {"pair_local", "wall_local"});
+  while (a.next()) {
+    if (a.is("pair_local")) {
+      pair_id_ = a.word("the ID of a compute pair/gran/local");
     } else {
-      wall_id_ = val;
+      const std::string val = a.word("the ID of a compute wall/gran/local, or none");
+      if (val == "none") wall_none_ = true;
+      else wall_id_ = val;
     }
-    iarg += 2;
   }
+  iarg = narg;
   if (!atom->radius_flag)
     error->all(FLERR, "compute stress/grain needs per-particle radii (atom_style granular)");
 }

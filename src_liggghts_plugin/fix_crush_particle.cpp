@@ -14,6 +14,7 @@
 #include "atom.h"
 #include "atom_vec.h"
 #include "comm.h"
+#include "crush_args.h"
 #include "crush_breakage_index_kernel.h"
 #include "crush_breakage_kernel.h"
 #include "crush_fragment_kernel.h"
@@ -49,14 +50,6 @@ const int kRestartBrSettings = 5;
 const double kRestartFormatBins = 2.0;
 // one event record: step time tag d x y z F_n F_lim partner generation
 const int kEventRecord = 11;
-
-bool is_prime(long n)
-{
-  if (n < 2) return false;
-  for (long k = 2; k * k <= n; k++)
-    if (n % k == 0) return false;
-  return true;
-}
 
 std::string str(const char *a) { return std::string(a ? a : ""); }
 
@@ -125,104 +118,45 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
 void FixCrushParticle::parse_args(int narg, char **arg)
 {
   // fix ID group crush/particle sigma_lim0 S m M d0 D scale N var V d_comm DC seed P [...]
-  bool have_br_dmax = false, have_br_dmin = false;
-  int iarg = 3;
-  while (iarg < narg) {
-    const std::string key = arg[iarg];
-    // keywords without a numeric value
-    if (key == "events" || key == "dt_check" || key == "events_append" || key == "margin_skip" ||
-        key == "fines_grading") {
-      if (iarg + 2 > narg)
-        error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
-      if (key == "events") {
-        delete[] events_file_;
-        events_file_ = new char[strlen(arg[iarg + 1]) + 1];
-        strcpy(events_file_, arg[iarg + 1]);
-      } else if (key == "events_append" || key == "margin_skip") {
-        const std::string v = arg[iarg + 1];
-        bool &flag = (key == "events_append") ? events_append_ : margin_skip_;
-        if (v == "yes") flag = true;
-        else if (v == "no") flag = false;
-        else
-          error->all(FLERR, ("fix crush/particle: keyword '" + key + "' must be 'yes' or 'no', got '" + v + "'").c_str());
-      } else if (key == "fines_grading") {
-        const std::string v = arg[iarg + 1];
-        if (v == "fractal") fines_fractal_ = true;
-        else if (v == "d_min") fines_fractal_ = false;
-        else
-          error->all(FLERR, ("fix crush/particle: keyword 'fines_grading' must be 'fractal' or 'd_min', got '" + v + "'").c_str());
-      } else {
-        const std::string v = arg[iarg + 1];
-        if (v == "warn") dt_check_error_ = false;
-        else if (v == "error") dt_check_error_ = true;
-        else
-          error->all(FLERR, ("fix crush/particle: keyword 'dt_check' must be 'warn' or 'error', got '" + v + "'").c_str());
-      }
-      iarg += 2;
-      continue;
+  CrushArgs a(error, "fix crush/particle", narg, arg, 3,
+              {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed", "br", "d_max", "d_min",
+               "omega", "fines_grading", "d_frag_min", "events", "events_append", "dt_check",
+               "dt_frac", "margin_skip"});
+  while (a.next()) {
+    if (a.is("sigma_lim0")) sigma_lim0_ = a.number(arg_positive("Pa"));
+    else if (a.is("m")) m_ = a.number(arg_positive(""));
+    else if (a.is("d0")) d0_ = a.number(arg_positive("m"));
+    else if (a.is("scale")) scale_N_ = a.number(arg_positive(""));
+    else if (a.is("var")) var_ = a.number(arg_non_negative(""));
+    else if (a.is("d_comm")) d_comm_ = a.number(arg_positive("m"));
+    else if (a.is("seed")) seed_ = (uint64_t)a.prime_seed();
+    else if (a.is("br")) {}  // br d_max DMAX d_min DMIN omega W: a heading only
+    else if (a.is("d_max")) d_max_ = a.number(arg_positive("m"));
+    else if (a.is("d_min")) d_min_ = a.number(arg_positive("m"));
+    else if (a.is("omega")) omega_ = a.number(arg_range(0.0, false, 3.0, true, "in (0, 3]"));
+    else if (a.is("fines_grading")) fines_fractal_ = a.choice({"fractal", "d_min"}) == 0;
+    else if (a.is("d_frag_min")) d_frag_min_ = a.number(arg_non_negative("m"));
+    else if (a.is("events")) {
+      const std::string f = a.word("a file name");
+      delete[] events_file_;
+      events_file_ = new char[f.size() + 1];
+      strcpy(events_file_, f.c_str());
     }
-    if (key == "br") {  // br d_max DMAX d_min DMIN omega W (sub-keywords in any order)
-      iarg++;
-      continue;
-    }
-
-    static const char *numeric_keys[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm",
-                                         "seed", "d_max", "d_min", "omega", "d_frag_min",
-                                         "dt_frac"};
-    bool known = false;
-    for (unsigned k = 0; k < sizeof(numeric_keys) / sizeof(numeric_keys[0]); k++)
-      if (key == numeric_keys[k]) known = true;
-    if (!known)
-      error->all(FLERR, ("fix crush/particle: unknown keyword '" + key +
-                         "'; expected sigma_lim0, m, d0, scale, var, d_comm, seed, br, d_max, "
-                         "d_min, omega, fines_grading, d_frag_min, events, events_append, dt_check, dt_frac, "
-                         "margin_skip").c_str());
-    if (iarg + 2 > narg)
-      error->all(FLERR, ("fix crush/particle: keyword '" + key + "' needs a value").c_str());
-    char *end = NULL;
-    const double val = strtod(arg[iarg + 1], &end);
-    if (end == arg[iarg + 1] || *end != '\0')
-      error->all(FLERR, ("fix crush/particle: value '" + str(arg[iarg + 1]) + "' of keyword '" +
-                         key + "' is not a number").c_str());
-
-    const char *range = NULL;
-    if (key == "sigma_lim0") { sigma_lim0_ = val; if (!(val > 0)) range = "> 0 (Pa)"; }
-    else if (key == "m") { m_ = val; if (!(val > 0)) range = "> 0"; }
-    else if (key == "d0") { d0_ = val; if (!(val > 0)) range = "> 0 (m)"; }
-    else if (key == "scale") { scale_N_ = val; if (!(val > 0)) range = "> 0"; }
-    else if (key == "var") { var_ = val; if (!(val >= 0)) range = ">= 0"; }
-    else if (key == "d_comm") { d_comm_ = val; if (!(val > 0)) range = "> 0 (m)"; }
-    else if (key == "seed") {
-      if (!(val > 10000) || val != floor(val) || val > 2147483647.0 || !is_prime((long)val))
-        range = "a prime number > 10000";
-      else seed_ = (uint64_t)val;
-    }
-    else if (key == "d_max") { d_max_ = val; have_br_dmax = true; if (!(val > 0)) range = "> 0 (m)"; }
-    else if (key == "d_min") { d_min_ = val; have_br_dmin = true; if (!(val > 0)) range = "> 0 (m)"; }
-    else if (key == "omega") { omega_ = val; if (!(val > 0 && val <= 3)) range = "in (0, 3]"; }
-    else if (key == "d_frag_min") { d_frag_min_ = val; if (!(val >= 0)) range = ">= 0 (m)"; }
-    else if (key == "dt_frac") { dt_frac_ = val; if (!(val > 0 && val <= 1)) range = "in (0, 1]"; }
-    if (range)
-      error->all(FLERR, ("fix crush/particle: keyword '" + key + "' must be " + range +
-                         ", got " + str(arg[iarg + 1])).c_str());
-    iarg += 2;
+    else if (a.is("events_append")) events_append_ = a.yes_no();
+    else if (a.is("dt_check")) dt_check_error_ = a.choice({"warn", "error"}) == 1;
+    else if (a.is("dt_frac")) dt_frac_ = a.number(arg_range(0.0, false, 1.0, true, "in (0, 1]"));
+    else if (a.is("margin_skip")) margin_skip_ = a.yes_no();
   }
 
-  const char *missing = NULL;
-  if (sigma_lim0_ < 0) missing = "sigma_lim0";
-  else if (m_ < 0) missing = "m";
-  else if (d0_ < 0) missing = "d0";
-  else if (scale_N_ < 0) missing = "scale";
-  else if (var_ < 0) missing = "var";
-  else if (d_comm_ < 0) missing = "d_comm";
-  else if (seed_ == 0) missing = "seed";
-  if (missing)
-    error->all(FLERR, ("fix crush/particle: missing required keyword '" + str(missing) +
-                       "' (required: sigma_lim0 m d0 scale var d_comm seed)").c_str());
+  static const char *required[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed"};
+  for (unsigned k = 0; k < sizeof(required) / sizeof(required[0]); k++)
+    if (!a.given(required[k]))
+      a.fail("missing required keyword '" + str(required[k]) +
+             "' (required: sigma_lim0 m d0 scale var d_comm seed)");
 
   // Einav limit grading: default NE34 sizes (SPEC section 3) scaled by N
-  if (!have_br_dmax) d_max_ = 0.27e-3 * scale_N_;
-  if (!have_br_dmin) d_min_ = 0.01e-3 * scale_N_;
+  if (!a.given("d_max")) d_max_ = 0.27e-3 * scale_N_;
+  if (!a.given("d_min")) d_min_ = 0.01e-3 * scale_N_;
   if (!(d_max_ > d_min_))
     error->all(FLERR, "fix crush/particle: keyword 'd_max' must be larger than 'd_min'");
 

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "atom.h"
+#include "crush_args.h"
 #include "crush_damping_kernel.h"
 #include "error.h"
 #include "force.h"
@@ -25,27 +26,12 @@ FixDampLocal::FixDampLocal(LAMMPS *lmp, int narg, char **arg) :
   alpha_(-1.0)
 {
   // fix ID group damp/local alpha A
-  int iarg = 3;
-  while (iarg < narg) {
-    if (strcmp(arg[iarg], "alpha") == 0) {
-      if (iarg + 2 > narg)
-        error->all(FLERR, "fix damp/local: keyword 'alpha' needs a value in [0, 1)");
-      char *end = NULL;
-      alpha_ = strtod(arg[iarg + 1], &end);
-      if (end == arg[iarg + 1] || *end != '\0')
-        error->all(FLERR, "fix damp/local: value of 'alpha' is not a number; allowed range is [0, 1)");
-      // written so that NaN (strtod accepts "nan") is rejected too
-      if (!(alpha_ >= 0.0 && alpha_ < 1.0))
-        error->all(FLERR, "fix damp/local: 'alpha' must be in [0, 1)");
-      iarg += 2;
-    } else {
-      std::string msg = std::string("fix damp/local: unknown keyword '") + arg[iarg] +
-                        "'; expected 'alpha'";
-      error->all(FLERR, msg.c_str());
-    }
-  }
-  if (alpha_ < 0.0)
-    error->all(FLERR, "fix damp/local: missing required keyword 'alpha' (value in [0, 1))");
+  CrushArgs a(error, "fix damp/local", narg, arg, 3, {"alpha"});
+  while (a.next())
+    if (a.is("alpha"))
+      alpha_ = a.number(CrushKernels::arg_range(0.0, true, 1.0, false, "in [0, 1)"));
+  if (!a.given("alpha"))
+    a.fail("missing required keyword 'alpha' (the local damping coefficient, a number in [0, 1))");
 }
 
 /* ---------------------------------------------------------------------- */

@@ -29,6 +29,7 @@
 
 #include "abstract_mesh.h"
 #include "comm.h"
+#include "crush_args.h"
 #include "error.h"
 #include "fix_mesh_surface.h"
 #include "mesh_module_stress.h"
@@ -129,129 +130,54 @@ FixJackPile::~FixJackPile()
 
 /* ---------------------------------------------------------------------- */
 
-double FixJackPile::parse_number(const char *key, const char *value, const char *range)
-{
-  char *end = NULL;
-  const double v = strtod(value, &end);
-  if (end == value || *end != '\0')
-    error->all(FLERR, ("fix jack/pile: value '" + str(value) + "' of keyword '" + key +
-                       "' is not a number; allowed: " + range).c_str());
-  return v;
-}
-
 void FixJackPile::parse_args(int narg, char **arg)
 {
   // fix ID group jack/pile cone C shaft S mode monotonic|cyclic v V depth D
   //     [stroke S v_unload VU pause T zero_tol F0 strokes absolute|relative pause_servo G]
   //     [surface Z] [sector ANGLE] [file F] [every N] [check_motion yes|no]
-  static const char *kKeywords =
-      "cone, shaft, mode, v, depth, stroke, v_unload, pause, zero_tol, strokes, pause_servo, "
-      "surface, sector, file, every, check_motion";
-  bool have_mode = false, have_v = false, have_depth = false;
-  bool have_stroke = false, have_vu = false, have_pause = false;
-  const char *cyclic_key = NULL;  // first cyclic-only keyword given
-  int iarg = 3;
-  while (iarg < narg) {
-    const std::string key = arg[iarg];
-    if (iarg + 2 > narg)
-      error->all(FLERR, ("fix jack/pile: keyword '" + key + "' needs a value").c_str());
-    const char *val = arg[iarg + 1];
-    if (key == "cone") {
-      delete[] cone_id_;
-      cone_id_ = copy_string(val);
-    } else if (key == "shaft") {
-      delete[] shaft_id_;
-      shaft_id_ = copy_string(val);
-    } else if (key == "mode") {
-      if (strcmp(val, "monotonic") == 0) params_.mode = JACK_MONOTONIC;
-      else if (strcmp(val, "cyclic") == 0) params_.mode = JACK_CYCLIC;
-      else
-        error->all(FLERR, ("fix jack/pile: unknown mode '" + str(val) +
-                           "'; keyword 'mode' must be 'monotonic' or 'cyclic'").c_str());
-      have_mode = true;
-    } else if (key == "v") {
-      params_.v_push = parse_number("v", val, "> 0 (m/s)");
-      if (!(params_.v_push > 0.0) || !std::isfinite(params_.v_push))
-        error->all(FLERR, ("fix jack/pile: keyword 'v' (push velocity) must be > 0 (m/s), got " +
-                           str(val)).c_str());
-      have_v = true;
-    } else if (key == "depth") {
-      params_.depth = parse_number("depth", val, "> 0 (m)");
-      if (!(params_.depth > 0.0) || !std::isfinite(params_.depth))
-        error->all(FLERR, ("fix jack/pile: keyword 'depth' (target tip depth) must be > 0 (m), got " +
-                           str(val)).c_str());
-      have_depth = true;
-    } else if (key == "stroke") {
-      params_.stroke = parse_number("stroke", val, "> 0 (m)");
-      if (!(params_.stroke > 0.0) || !std::isfinite(params_.stroke))
-        error->all(FLERR, ("fix jack/pile: keyword 'stroke' must be > 0 (m), got " +
-                           str(val)).c_str());
-      have_stroke = true;
-      if (!cyclic_key) cyclic_key = "stroke";
-    } else if (key == "v_unload") {
-      params_.v_unload = parse_number("v_unload", val, "> 0 (m/s)");
-      if (!(params_.v_unload > 0.0) || !std::isfinite(params_.v_unload))
-        error->all(FLERR, ("fix jack/pile: keyword 'v_unload' (upward unloading velocity) must be "
-                           "> 0 (m/s), got " + str(val)).c_str());
-      have_vu = true;
-      if (!cyclic_key) cyclic_key = "v_unload";
-    } else if (key == "pause") {
-      params_.pause = parse_number("pause", val, ">= 0 (s)");
-      if (!(params_.pause >= 0.0) || !std::isfinite(params_.pause))
-        error->all(FLERR, ("fix jack/pile: keyword 'pause' (duration) must be >= 0 (s), got " +
-                           str(val)).c_str());
-      have_pause = true;
-      if (!cyclic_key) cyclic_key = "pause";
-    } else if (key == "zero_tol") {
-      params_.zero_tol = parse_number("zero_tol", val, ">= 0 (N)");
-      if (!(params_.zero_tol >= 0.0) || !std::isfinite(params_.zero_tol))
-        error->all(FLERR, ("fix jack/pile: keyword 'zero_tol' (head force tolerance) must be "
-                           ">= 0 (N), got " + str(val)).c_str());
-      if (!cyclic_key) cyclic_key = "zero_tol";
-    } else if (key == "pause_servo") {
-      params_.pause_servo = parse_number("pause_servo", val, ">= 0 (m/s per N)");
-      if (!(params_.pause_servo >= 0.0) || !std::isfinite(params_.pause_servo))
-        error->all(FLERR, ("fix jack/pile: keyword 'pause_servo' (gain) must be >= 0 (m/s per N), "
-                           "got " + str(val)).c_str());
-      if (!cyclic_key) cyclic_key = "pause_servo";
-    } else if (key == "strokes") {
-      if (strcmp(val, "absolute") == 0) params_.strokes = JACK_STROKES_ABSOLUTE;
-      else if (strcmp(val, "relative") == 0) params_.strokes = JACK_STROKES_RELATIVE;
-      else
-        error->all(FLERR, ("fix jack/pile: keyword 'strokes' must be 'absolute' or 'relative', "
-                           "got '" + str(val) + "'").c_str());
-      if (!cyclic_key) cyclic_key = "strokes";
-    } else if (key == "surface") {
-      surface_z_ = parse_number("surface", val, "a finite z (m)");
-      if (!std::isfinite(surface_z_))
-        error->all(FLERR, ("fix jack/pile: keyword 'surface' must be a finite z (m), got " +
-                           str(val)).c_str());
+  CrushArgs a(error, "fix jack/pile", narg, arg, 3,
+              {"cone", "shaft", "mode", "v", "depth", "stroke", "v_unload", "pause", "zero_tol",
+               "strokes", "pause_servo", "surface", "sector", "file", "every", "check_motion"});
+  std::string cyclic_key;  // first cyclic-only keyword given
+  while (a.next()) {
+    if (a.is("cone")) {
+      cone_id_ = copy_string(a.word("the ID of the cone's fix mesh/surface/stress").c_str());
+    } else if (a.is("shaft")) {
+      shaft_id_ = copy_string(a.word("the ID of the shaft's fix mesh/surface/stress").c_str());
+    } else if (a.is("mode")) {
+      params_.mode = a.choice({"monotonic", "cyclic"}) == 0 ? JACK_MONOTONIC : JACK_CYCLIC;
+    } else if (a.is("v")) {
+      params_.v_push = a.number(arg_positive("m/s"), "push velocity");
+    } else if (a.is("depth")) {
+      params_.depth = a.number(arg_positive("m"), "target tip depth");
+    } else if (a.is("surface")) {
+      surface_z_ = a.number(arg_any("a finite z (m)"));
       have_surface_ = true;
-    } else if (key == "sector") {
-      sector_deg_ = parse_number("sector", val, "> 0 and <= 360 (degrees)");
-      if (!(sector_deg_ > 0.0 && sector_deg_ <= 360.0))
-        error->all(FLERR, ("fix jack/pile: keyword 'sector' (simulated sector of the chamber) must be "
-                           "> 0 and <= 360 (degrees), got " + str(val)).c_str());
-    } else if (key == "file") {
-      delete[] file_name_;
-      file_name_ = copy_string(val);
-    } else if (key == "every") {
-      const double e = parse_number("every", val, "an integer >= 1 (steps)");
-      if (!(e >= 1.0) || e != std::floor(e) || e > 2147483647.0)
-        error->all(FLERR, ("fix jack/pile: keyword 'every' must be an integer >= 1 (steps), got " +
-                           str(val)).c_str());
-      every_ = (int)e;
-    } else if (key == "check_motion") {
-      if (strcmp(val, "yes") == 0) check_motion_ = true;
-      else if (strcmp(val, "no") == 0) check_motion_ = false;
+    } else if (a.is("sector")) {
+      sector_deg_ = a.number(arg_range(0.0, false, 360.0, true, "> 0 and <= 360 (degrees)"),
+                             "simulated sector of the chamber");
+    } else if (a.is("file")) {
+      file_name_ = copy_string(a.word("a file name").c_str());
+    } else if (a.is("every")) {
+      every_ = (int)a.integer(1, 2147483647L, "an integer >= 1 (steps)");
+    } else if (a.is("check_motion")) {
+      check_motion_ = a.yes_no();
+    } else {  // the cyclic-only keywords
+      if (cyclic_key.empty()) cyclic_key = a.key();
+      if (a.is("stroke"))
+        params_.stroke = a.number(arg_positive("m"));
+      else if (a.is("v_unload"))
+        params_.v_unload = a.number(arg_positive("m/s"), "upward unloading velocity");
+      else if (a.is("pause"))
+        params_.pause = a.number(arg_non_negative("s"), "duration");
+      else if (a.is("zero_tol"))
+        params_.zero_tol = a.number(arg_non_negative("N"), "head force tolerance");
+      else if (a.is("pause_servo"))
+        params_.pause_servo = a.number(arg_non_negative("m/s per N"), "gain");
       else
-        error->all(FLERR, ("fix jack/pile: keyword 'check_motion' must be 'yes' or 'no', got '" +
-                           str(val) + "'").c_str());
-    } else {
-      error->all(FLERR, ("fix jack/pile: unknown keyword '" + key + "'; expected " +
-                         kKeywords).c_str());
+        params_.strokes = a.choice({"absolute", "relative"}) == 0 ? JACK_STROKES_ABSOLUTE
+                                                                  : JACK_STROKES_RELATIVE;
     }
-    iarg += 2;
   }
 
   if (!cone_id_)
@@ -263,22 +189,22 @@ void FixJackPile::parse_args(int narg, char **arg)
   if (strcmp(cone_id_, shaft_id_) == 0)
     error->all(FLERR, ("fix jack/pile: keywords 'cone' and 'shaft' name the same fix '" +
                        str(cone_id_) + "'; the cone and the shaft must be separate meshes").c_str());
-  if (!have_mode)
+  if (!a.given("mode"))
     error->all(FLERR, "fix jack/pile: missing required keyword 'mode' (monotonic or cyclic)");
-  if (!have_v)
+  if (!a.given("v"))
     error->all(FLERR, "fix jack/pile: missing required keyword 'v' (push velocity > 0, m/s)");
-  if (!have_depth)
+  if (!a.given("depth"))
     error->all(FLERR, "fix jack/pile: missing required keyword 'depth' (target tip depth > 0, m)");
   if (params_.mode == JACK_MONOTONIC) {
-    if (cyclic_key)
-      error->all(FLERR, ("fix jack/pile: keyword '" + str(cyclic_key) +
+    if (!cyclic_key.empty())
+      error->all(FLERR, ("fix jack/pile: keyword '" + cyclic_key +
                          "' applies to mode cyclic only; mode monotonic takes v and depth").c_str());
   } else {
-    if (!have_stroke)
+    if (!a.given("stroke"))
       error->all(FLERR, "fix jack/pile: mode cyclic needs keyword 'stroke' (> 0, m)");
-    if (!have_vu)
+    if (!a.given("v_unload"))
       error->all(FLERR, "fix jack/pile: mode cyclic needs keyword 'v_unload' (> 0, m/s)");
-    if (!have_pause)
+    if (!a.given("pause"))
       error->all(FLERR, "fix jack/pile: mode cyclic needs keyword 'pause' (>= 0, s)");
   }
   const char *bad = jack_invalid_param(params_);

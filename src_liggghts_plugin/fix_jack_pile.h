@@ -67,7 +67,6 @@ class FixJackPile : public Fix {
   bool restart_time_pending_;
 
   void parse_args(int narg, char **arg);
-  double parse_number(const char *key, const char *value, const char *range);
   class FixMeshSurface *find_mesh(const char *key, const char *mesh_id,
                                   class MeshModuleStress **stress);
   double mesh_min_z(class FixMeshSurface *mesh);

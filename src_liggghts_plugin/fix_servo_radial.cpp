@@ -35,6 +35,7 @@
 
 #include "comm.h"
 #include "container.h"
+#include "crush_args.h"
 #include "crush_servo_kernel.h"
 #include "domain.h"
 #include "error.h"
@@ -104,94 +105,44 @@ FixServoRadial::FixServoRadial(LAMMPS *lmp, int narg, char **arg) :
 void FixServoRadial::parse_args(int narg, char **arg)
 {
   // fix ID group servo/radial mesh MESH target S gain K [vmax V] height H|v_NAME [axis X0 Y0]
-  int iarg = 3;
-  while (iarg < narg) {
-    const std::string key = arg[iarg];
-    if (key == "mesh") {
-      if (iarg + 2 > narg)
-        error->all(FLERR, "fix servo/radial: keyword 'mesh' needs the ID of a fix mesh/surface/stress");
-      mesh_id_ = arg[iarg + 1];
-      iarg += 2;
-      continue;
-    }
-    if (key == "height") {
-      if (iarg + 2 > narg)
-        error->all(FLERR, "fix servo/radial: keyword 'height' needs a value: a number > 0 (m) "
-                          "or v_NAME (equal-style variable)");
-      const char *v = arg[iarg + 1];
-      if (strncmp(v, "v_", 2) == 0) {
-        if (v[2] == '\0')
-          error->all(FLERR, "fix servo/radial: keyword 'height' got 'v_' without a variable name");
-        height_var_ = v + 2;
-        height_const_ = -1.0;
+  //     [sector ANGLE]
+  CrushArgs a(error, "fix servo/radial", narg, arg, 3,
+              {"mesh", "target", "gain", "vmax", "height", "axis", "sector"});
+  while (a.next()) {
+    if (a.is("mesh")) {
+      mesh_id_ = a.word("the ID of a fix mesh/surface/stress");
+    } else if (a.is("target")) {
+      target_ = a.number(arg_positive("Pa"));
+    } else if (a.is("gain")) {
+      gain_ = a.number(arg_positive("m/s per Pa"));
+    } else if (a.is("vmax")) {
+      vmax_ = a.number(arg_positive("m/s"));
+    } else if (a.is("sector")) {
+      sector_deg_ = a.number(arg_range(0.0, false, 360.0, true, "> 0 and <= 360 (degrees)"));
+    } else if (a.is("height")) {
+      const std::string v = a.word("a number > 0 (m) or v_NAME (equal-style variable)");
+      if (v.compare(0, 2, "v_") == 0) {
+        if (v.size() == 2) a.fail("keyword 'height' got 'v_' without a variable name");
+        height_var_ = v.substr(2);
       } else {
-        char *end = NULL;
-        const double h = strtod(v, &end);
-        if (end == v || *end != '\0')
-          error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword 'height' is "
-                             "neither a number nor v_NAME; allowed: a number > 0 (m) or v_NAME").c_str());
-        if (!(h > 0.0) || !std::isfinite(h))
-          error->all(FLERR, ("fix servo/radial: keyword 'height' must be > 0 (m), got " + str(v)).c_str());
-        height_const_ = h;
-        height_var_.clear();
+        height_const_ = a.number_of(v.c_str(), arg_range(0.0, false, HUGE_VAL, false,
+                                                         "> 0 (m) or v_NAME (equal-style variable)"));
       }
-      iarg += 2;
-      continue;
+    } else if (a.is("axis")) {  // two values X0 Y0
+      x0_ = a.number(arg_any("a finite x of the axis (m)"));
+      y0_ = a.number(arg_any("a finite y of the axis (m)"));
     }
-    if (key == "axis") {
-      if (iarg + 3 > narg)
-        error->all(FLERR, "fix servo/radial: keyword 'axis' needs two values X0 Y0 (m), any real numbers");
-      double xy[2];
-      for (int k = 0; k < 2; k++) {
-        const char *v = arg[iarg + 1 + k];
-        char *end = NULL;
-        xy[k] = strtod(v, &end);
-        if (end == v || *end != '\0' || !std::isfinite(xy[k]))
-          error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword 'axis' is not a "
-                             "finite number; 'axis X0 Y0' takes two real numbers (m)").c_str());
-      }
-      x0_ = xy[0];
-      y0_ = xy[1];
-      iarg += 3;
-      continue;
-    }
-
-    const char *range = NULL;
-    if (key == "target") range = "> 0 (Pa)";
-    else if (key == "gain") range = "> 0 (m/s per Pa)";
-    else if (key == "vmax") range = "> 0 (m/s)";
-    else if (key == "sector") range = "> 0 and <= 360 (degrees)";
-    else
-      error->all(FLERR, ("fix servo/radial: unknown keyword '" + key +
-                         "'; expected mesh, target, gain, vmax, height, axis, sector").c_str());
-    if (iarg + 2 > narg)
-      error->all(FLERR, ("fix servo/radial: keyword '" + key + "' needs a value " + range).c_str());
-    const char *v = arg[iarg + 1];
-    char *end = NULL;
-    const double val = strtod(v, &end);
-    if (end == v || *end != '\0')
-      error->all(FLERR, ("fix servo/radial: value '" + str(v) + "' of keyword '" + key +
-                         "' is not a number; allowed range is " + range).c_str());
-    // written so that NaN is rejected too
-    if (!(val > 0.0) || !std::isfinite(val) || (key == "sector" && val > 360.0))
-      error->all(FLERR, ("fix servo/radial: keyword '" + key + "' must be " + range +
-                         ", got " + str(v)).c_str());
-    if (key == "sector") sector_deg_ = val;
-    else if (key == "target") target_ = val;
-    else if (key == "gain") gain_ = val;
-    else vmax_ = val;
-    iarg += 2;
   }
 
   const char *missing = NULL;
-  if (mesh_id_.empty()) missing = "mesh";
-  else if (target_ < 0.0) missing = "target";
-  else if (gain_ < 0.0) missing = "gain";
-  else if (height_const_ < 0.0 && height_var_.empty()) missing = "height";
+  if (!a.given("mesh")) missing = "mesh";
+  else if (!a.given("target")) missing = "target";
+  else if (!a.given("gain")) missing = "gain";
+  else if (!a.given("height")) missing = "height";
   if (missing)
-    error->all(FLERR, ("fix servo/radial: missing required keyword '" + str(missing) +
-                       "' (required: mesh ID, target S > 0, gain K > 0, height H > 0 or v_NAME)").c_str());
-  if (vmax_ < 0.0) vmax_ = gain_ * target_;
+    a.fail("missing required keyword '" + str(missing) +
+           "' (required: mesh ID, target S > 0, gain K > 0, height H > 0 or v_NAME)");
+  if (!a.given("vmax")) vmax_ = gain_ * target_;
 }
 
 /* ---------------------------------------------------------------------- */

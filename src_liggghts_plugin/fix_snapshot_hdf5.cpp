@@ -31,6 +31,7 @@
 #include "comm.h"
 #include "compute.h"
 #include "compute_pair_gran_local.h"
+#include "crush_args.h"
 #include "error.h"
 #include "fix_wall_gran.h"
 #include "fix_mesh_surface.h"
@@ -48,24 +49,6 @@ using namespace FixConst;
 namespace {
 
 std::string str(const char *a) { return std::string(a ? a : ""); }
-
-const char *kKeywords = "file, trigger, leaving, contacts, pair_local, wall_local, values";
-
-bool is_keyword(const char *a)
-{
-  static const char *k[] = {"file", "trigger", "leaving", "contacts", "pair_local",
-                            "wall_local", "values"};
-  for (unsigned i = 0; i < sizeof(k) / sizeof(k[0]); i++)
-    if (strcmp(a, k[i]) == 0) return true;
-  return false;
-}
-
-bool parse_double(const char *s, double *v)
-{
-  char *end = NULL;
-  *v = strtod(s, &end);
-  return end != s && *end == '\0';
-}
 
 // columns of one packed particle-particle contact row
 enum { PP_I, PP_J, PP_CP, PP_F = PP_CP + 3, PP_FN = PP_F + 3, PP_DELTA = PP_FN + 3, PP_NCOL };
@@ -239,67 +222,38 @@ void FixSnapshotHdf5::parse_args(int narg, char **arg)
 {
   // fix ID group snapshot/hdf5 file PREFIX trigger X [leaving v1 v2 ...]
   //     [contacts yes|no] [pair_local CID] [wall_local CID] [values X1 X2 ...]
-  bool have_trigger = false;
-  int iarg = 3;
-  while (iarg < narg) {
-    const std::string key = arg[iarg];
-    if (!is_keyword(arg[iarg]))
-      error->all(FLERR, ("fix snapshot/hdf5: unknown keyword '" + key + "'; expected " +
-                         kKeywords).c_str());
-    if (iarg + 2 > narg)
-      error->all(FLERR, ("fix snapshot/hdf5: keyword '" + key + "' needs a value").c_str());
-    const char *val = arg[iarg + 1];
-    if (key == "file") {
-      prefix_ = val;
-      iarg += 2;
-    } else if (key == "trigger") {
-      trigger_ = parse_ref("trigger", val, false);
-      have_trigger = true;
-      iarg += 2;
-    } else if (key == "leaving") {
-      // one or more numbers, up to the next keyword
-      leaving_.clear();
-      iarg++;
-      while (iarg < narg && !is_keyword(arg[iarg])) {
-        double v;
-        if (!parse_double(arg[iarg], &v) || !std::isfinite(v))
-          error->all(FLERR, ("fix snapshot/hdf5: keyword 'leaving' takes finite numbers (values "
-                             "of the trigger), got '" + str(arg[iarg]) + "'").c_str());
-        leaving_.push_back(v);
-        iarg++;
-      }
+  CrushArgs a(error, "fix snapshot/hdf5", narg, arg, 3,
+              {"file", "trigger", "leaving", "contacts", "pair_local", "wall_local", "values"});
+  while (a.next()) {
+    if (a.is("file")) {
+      prefix_ = a.word("the prefix of the snapshot files PREFIX_<step>.h5");
+    } else if (a.is("trigger")) {
+      trigger_ = parse_ref("trigger", a.word("c_ID, c_ID[n], f_ID, f_ID[n] or v_name").c_str(),
+                           false);
+    } else if (a.is("leaving")) {  // one or more numbers, up to the next keyword
+      while (a.has_value())
+        leaving_.push_back(a.number(CrushKernels::arg_any("a finite number (a value of the trigger)")));
       if (leaving_.empty())
-        error->all(FLERR, "fix snapshot/hdf5: keyword 'leaving' needs at least one value");
-    } else if (key == "contacts") {
-      if (strcmp(val, "yes") == 0) contacts_ = true;
-      else if (strcmp(val, "no") == 0) contacts_ = false;
-      else
-        error->all(FLERR, ("fix snapshot/hdf5: keyword 'contacts' must be 'yes' or 'no', got '" +
-                           str(val) + "'").c_str());
-      iarg += 2;
-    } else if (key == "pair_local") {
-      pair_local_id_ = val;
-      iarg += 2;
-    } else if (key == "wall_local") {
-      wall_local_id_ = val;
-      iarg += 2;
+        a.fail("keyword 'leaving' needs at least one value");
+    } else if (a.is("contacts")) {
+      contacts_ = a.yes_no();
+    } else if (a.is("pair_local")) {
+      pair_local_id_ = a.word("the ID of a compute pair/gran/local");
+    } else if (a.is("wall_local")) {
+      wall_local_id_ = a.word("the ID of a compute wall/gran/local, or none");
     } else {  // values: one or more per-atom references, up to the next keyword
-      iarg++;
-      const size_t before = values_.size();
-      while (iarg < narg && !is_keyword(arg[iarg])) {
-        values_.push_back(parse_ref("values", arg[iarg], true));
-        iarg++;
-      }
-      if (values_.size() == before)
-        error->all(FLERR, "fix snapshot/hdf5: keyword 'values' needs at least one per-atom "
-                          "quantity (c_ID, c_ID[n], f_ID, f_ID[n] or v_name)");
+      while (a.has_value())
+        values_.push_back(parse_ref("values", a.word("").c_str(), true));
+      if (values_.empty())
+        a.fail("keyword 'values' needs at least one per-atom quantity (c_ID, c_ID[n], f_ID, "
+               "f_ID[n] or v_name)");
     }
   }
 
-  if (prefix_.empty())
+  if (!a.given("file"))
     error->all(FLERR, "fix snapshot/hdf5: missing required keyword 'file' (prefix of the "
                       "snapshot files PREFIX_<step>.h5)");
-  if (!have_trigger)
+  if (!a.given("trigger"))
     error->all(FLERR, "fix snapshot/hdf5: missing required keyword 'trigger' (c_ID, c_ID[n], "
                       "f_ID, f_ID[n] or v_name; e.g. f_JACK[6], the phase of fix jack/pile)");
   if (!contacts_ && (!pair_local_id_.empty() || !wall_local_id_.empty()))

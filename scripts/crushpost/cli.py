@@ -1,8 +1,11 @@
 """Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres} ...``."""
 
 import argparse
+import gzip
 import json
 import sys
+import warnings
+import zlib
 
 import numpy as np
 
@@ -20,6 +23,59 @@ D_MIN_REAL = 0.01e-3
 D_MAX_REAL = 0.27e-3
 
 
+class InputFileError(ValueError):
+    """A file given on the command line is missing, empty or not what it should be."""
+
+
+def _read(path, reader, what):
+    """``reader(path)``, with any failure to read the file turned into one
+    InputFileError that names it and says what is wrong (``what``: what the
+    file should be, e.g. "a LAMMPS text dump")."""
+    try:
+        with warnings.catch_warnings():
+            # numpy warns on an empty file; the callers say so themselves
+            warnings.simplefilter("ignore")
+            return reader(path)
+    except FileNotFoundError:
+        raise InputFileError("%s: no such file" % path) from None
+    except IsADirectoryError:
+        raise InputFileError("%s: is a folder, not %s" % (path, what)) from None
+    except PermissionError:
+        raise InputFileError("%s: permission denied" % path) from None
+    except UnicodeDecodeError as exc:
+        raise InputFileError("%s: not a text file (byte %d is not UTF-8); expected %s"
+                             % (path, exc.start, what)) from None
+    except gzip.BadGzipFile:
+        raise InputFileError("%s: not a gzip file (the name ends in .gz)" % path) from None
+    except (EOFError, zlib.error) as exc:
+        raise InputFileError("%s: truncated or corrupt gzip file (%s)" % (path, exc)) from None
+    except (OSError, ValueError, IndexError, KeyError) as exc:
+        msg = str(exc).strip() or type(exc).__name__
+        if msg.startswith(str(path)):
+            raise InputFileError(msg) from None
+        raise InputFileError("%s: not %s (%s)" % (path, what, msg)) from None
+
+
+def _is_empty(path):
+    with open(path, "rb") as fh:
+        return not fh.read(4096).strip()
+
+
+def _read_dump(path):
+    snaps = _read(path, read_dump, "a LAMMPS text dump")
+    if not snaps:
+        raise InputFileError("%s: no snapshot (an empty file, or not a LAMMPS text dump)" % path)
+    return snaps
+
+
+def _snapshot(snaps, index, path, option):
+    try:
+        return snaps[index]
+    except IndexError:
+        raise InputFileError("%s: no snapshot %d for %s (the dump has %d)"
+                             % (path, index, option, len(snaps))) from None
+
+
 def _grading(snap, density):
     atoms = snap["atoms"]
     if "radius" in atoms:
@@ -34,10 +90,11 @@ def _grading(snap, density):
 
 
 def _cmd_br(args):
-    snaps = read_dump(args.dump)
-    now = snaps[args.snapshot]
-    init_snaps = read_dump(args.initial) if args.initial else snaps
-    init = init_snaps[args.initial_snapshot]
+    snaps = _read_dump(args.dump)
+    now = _snapshot(snaps, args.snapshot, args.dump, "--snapshot")
+    init_snaps = _read_dump(args.initial) if args.initial else snaps
+    init = _snapshot(init_snaps, args.initial_snapshot, args.initial or args.dump,
+                     "--initial-snapshot")
     d, m = _grading(now, args.density)
     d0, m0 = _grading(init, args.density)
     d_min = args.d_min if args.d_min is not None else D_MIN_REAL * args.N
@@ -48,7 +105,7 @@ def _cmd_br(args):
             raise ValueError("give either --events or --fines-mass, not both")
         # the breaks between the two snapshots (an event's step is the first
         # step its fragments exist)
-        ev = read_crush_log(args.events)
+        ev = _read(args.events, read_crush_log, "an event log of fix crush/particle")
         sel = (ev["step"] > init["timestep"]) & (ev["step"] <= now["timestep"])
         fines_events = break_fines(ev["parent_diameter"][sel], density=args.density,
                                    d_frag_min=args.d_frag_min)
@@ -88,13 +145,16 @@ def _is_jack_series(path):
 
 
 def _cmd_fit_qc(args):
-    if _is_jack_series(args.file):
+    if _read(args.file, _is_empty, "a text file"):
+        raise InputFileError("%s: empty file; expected columns h and q_c, or a fix jack/pile "
+                             "series" % args.file)
+    if _read(args.file, _is_jack_series, "a text file"):
         # a fix jack/pile series: q_c = F_cone / (pi R^2) on virgin penetration
         # only (pushing, tip at its deepest so far, below the surface)
         if args.pile_radius is None or not args.pile_radius > 0:
             raise ValueError("%s is a fix jack/pile series: give --pile-radius R [m] "
                              "(q_c = F_cone / (pi R^2))" % args.file)
-        jack = read_jack(args.file)
+        jack = _read(args.file, read_jack, "a fix jack/pile series")
         mask = virgin_mask(jack["depth"], jack["phase"]) & (jack["depth"] > 0)
         h = jack["depth"][mask]
         q = jack["F_cone"][mask] / (np.pi * args.pile_radius ** 2)
@@ -102,20 +162,26 @@ def _cmd_fit_qc(args):
                  "n_excluded": int(mask.size - mask.sum()),
                  "points": "virgin penetration"}
     else:
-        data = np.loadtxt(args.file, ndmin=2)
+        data = _read(args.file, lambda p: np.loadtxt(p, ndmin=2), "a table of h and q_c")
         if data.shape[1] < 2:
             raise ValueError("%s: need two columns, h and q_c" % args.file)
         h, q = data[:, 0], data[:, 1]
         extra = {"n_points": int(h.size), "n_excluded": 0, "points": "all"}
-    fit = fit_qc_trend(h, q)
+    try:
+        fit = fit_qc_trend(h, q)
+    except (ValueError, RuntimeError) as exc:  # too few points, no convergence
+        raise InputFileError("%s: cannot fit q_c(h) to the points of the file (%d: %s)"
+                             % (args.file, h.size, exc)) from None
     print(json.dumps(dict(fit._asdict(), **extra)))
     return 0
 
 
 def _cmd_thermo(args):
-    blocks = read_log(args.log)
+    blocks = _read(args.log, read_log, "a LIGGGHTS log")
     if not blocks:
-        raise ValueError("%s: no thermo block found" % args.log)
+        raise InputFileError("%s: no thermo block found (%s)" % (
+            args.log, "empty file" if _read(args.log, _is_empty, "a LIGGGHTS log")
+            else "not a LIGGGHTS log, or no run printed thermo output"))
     groups = ([("all runs", concat_blocks(blocks))] if args.concat
               else [("run %d" % k, b) for k, b in enumerate(blocks)])
     for title, data in groups:
@@ -147,7 +213,15 @@ def _cmd_pile(args):
 def _cmd_spheres(args):
     centres = [list(c) for c in (args.centre or [])]
     if args.centres_file:
-        centres += np.loadtxt(args.centres_file, comments="#", ndmin=2).tolist()
+        rows = _read(args.centres_file, lambda p: np.loadtxt(p, comments="#", ndmin=2),
+                     "a table of centres x y z")
+        if rows.size == 0:
+            raise InputFileError("%s: no centre (empty file); expected one line x y z per "
+                                 "sphere" % args.centres_file)
+        if rows.shape[1] != 3:
+            raise InputFileError("%s: %d columns; expected three, x y z" % (args.centres_file,
+                                                                            rows.shape[1]))
+        centres += rows.tolist()
     if args.r_over_R or args.depth:
         if not (args.r_over_R and args.depth and args.pile_radius is not None
                 and args.z_top is not None):
@@ -276,6 +350,12 @@ def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (OSError, ValueError, KeyError, IndexError) as exc:
+    except OSError as exc:  # e.g. an output folder that does not exist
+        where = exc.filename if exc.filename is not None else ""
+        what = exc.strerror or str(exc)
+        print("crushpost %s: error: %s%s" % (args.command, where and "%s: " % where, what),
+              file=sys.stderr)
+        return 1
+    except (ValueError, KeyError, IndexError) as exc:
         print("crushpost %s: error: %s" % (args.command, exc), file=sys.stderr)
         return 1

@@ -66,8 +66,26 @@ def _group(g, names):
 
 
 def read_snapshot(path):
-    """Everything in one snapshot file as a dict of numpy arrays (see module doc)."""
+    """Everything in one snapshot file as a dict of numpy arrays (see module doc).
+
+    A missing file raises FileNotFoundError; an empty, truncated or corrupt
+    file, or an HDF5 file that is not a snapshot, raises ValueError. Both
+    name the file."""
     h5py = _h5py()
+    try:
+        return _read_snapshot(h5py, path)
+    except FileNotFoundError:
+        raise FileNotFoundError(2, "no such snapshot file", str(path)) from None
+    except IsADirectoryError:
+        raise ValueError("%s: is a folder, not a snapshot file" % path) from None
+    except (OSError, KeyError) as exc:
+        # h5py's message, first line: "Unable to open file (truncated file: eof = ...)"
+        why = (str(exc).splitlines() or [type(exc).__name__])[0]
+        raise ValueError("%s: not a readable fix snapshot/hdf5 file: empty, truncated or "
+                         "corrupt (%s)" % (path, why)) from None
+
+
+def _read_snapshot(h5py, path):
     with h5py.File(str(path), "r") as f:
         out = {"path": str(path)}
         for a in ("step", "snapshot"):

@@ -482,7 +482,7 @@ BAD_INPUT = [
     ("negative_zero_tol", GOOD_CYCLIC + " zero_tol -1",
      "keyword 'zero_tol' (head force tolerance) must be >= 0 (N), got -1"),
     ("unknown_mode", "mode sideways v 0.5 depth 0.01",
-     "unknown mode 'sideways'; keyword 'mode' must be 'monotonic' or 'cyclic'"),
+     "keyword 'mode' must be 'monotonic' or 'cyclic', got 'sideways'"),
     ("missing_mode", "v 0.5 depth 0.01", "missing required keyword 'mode' (monotonic or cyclic)"),
     ("missing_v", "mode monotonic depth 0.01", "missing required keyword 'v'"),
     ("missing_depth", "mode monotonic v 0.5", "missing required keyword 'depth'"),

@@ -290,7 +290,7 @@ ERROR_CASES = {
     "gain_negative": (WALL + "fix s all servo/radial mesh chamber target 76e3 gain -1 height 0.04\n",
                       "keyword 'gain' must be > 0 (m/s per Pa)"),
     "vmax_not_number": (WALL + "fix s all servo/radial %s vmax fast\n" % OK_ARGS,
-                        "value 'fast' of keyword 'vmax' is not a number; allowed range is > 0 (m/s)"),
+                        "value 'fast' of keyword 'vmax' is not a number; allowed: > 0 (m/s)"),
     "height_zero": (WALL + "fix s all servo/radial mesh chamber target 76e3 gain 1e-6 height 0\n",
                     "keyword 'height' must be > 0 (m)"),
     "unknown_keyword": (WALL + "fix s all servo/radial %s speed 2\n" % OK_ARGS,

@@ -436,7 +436,8 @@ BAD = [
     ("bad_contacts", GOOD + " contacts maybe", "",
      "keyword 'contacts' must be 'yes' or 'no', got 'maybe'"),
     ("leaving_word", GOOD + " leaving push", "",
-     "keyword 'leaving' takes finite numbers (values of the trigger), got 'push'"),
+     "value 'push' of keyword 'leaving' is not a number; allowed: a finite number (a value of "
+     "the trigger)"),
     ("leaving_empty", GOOD + " leaving contacts no", "",
      "keyword 'leaving' needs at least one value"),
     ("trigger_form", "file s trigger phase", "",
