@@ -226,22 +226,25 @@ def dump_lines(every, name="dump.txt", group="all"):
             f'dump_modify d format "{DUMP_FORMAT}" sort id\n')
 
 
-def run(deck, workdir, nprocs=1, timeout=240, check=True, files=None, screen="screen.txt"):
+def run(deck, workdir, nprocs=1, timeout=240, check=True, files=None, screen="screen.txt",
+        lost_ok=False):
     """harness.run_deck with `-screen screen.txt` (mesh code needs a screen)
     and extra files (name -> callable(path)) written to the workdir first.
-    screen="/dev/stdout" puts the screen output into RunResult.stdout."""
+    screen="/dev/stdout" puts the screen output into RunResult.stdout;
+    lost_ok as in harness.run_deck."""
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)
     for name, writer in (files or {}).items():
         writer(workdir / name)
     return harness.run_deck(deck, workdir, nprocs=nprocs, timeout=timeout, check=check,
-                            extra_args=["-screen", screen])
+                            extra_args=["-screen", screen], lost_ok=lost_ok)
 
 
-def expect_error(deck, workdir, pattern, nprocs=1, timeout=120, files=None, screen="screen.txt"):
-    """harness.expect_error, with the extra files and screen flag of `run`."""
+def expect_error(deck, workdir, pattern, nprocs=1, timeout=120, files=None, screen="screen.txt",
+                 lost_ok=False):
+    """harness.expect_error, with the extra files, screen flag and lost_ok of `run`."""
     res = run(deck, workdir, nprocs=nprocs, timeout=timeout, check=False, files=files,
-              screen=screen)
+              screen=screen, lost_ok=lost_ok)
     if res.returncode == 0:
         raise harness.DeckError("deck was expected to fail (pattern %r) but ran successfully\n%s"
                                 % (pattern, res.summary()))
