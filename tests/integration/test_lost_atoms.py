@@ -31,7 +31,7 @@ variable        inputs index {inputs}
 include         ${{inputs}}/base.in
 boundary        f f f
 region          box block -0.01 0.01 -0.01 0.01 -0.01 0.01 units box
-create_box      3 box
+create_box      4 box
 include         ${{inputs}}/materials_ne34.in
 neighbor        0.001 bin
 neigh_modify    delay 0
