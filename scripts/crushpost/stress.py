@@ -261,19 +261,23 @@ def sphere_ring_volume(centres, radii, r_in, r_out, z_lo, z_hi,
 
 
 def ring_average(sigma_p, centres, radii, r_in, r_out, z_lo, z_hi,
-                 axis_xy=(0.0, 0.0), frame="cylindrical"):
+                 axis_xy=(0.0, 0.0), frame="cylindrical", sector=360.0):
     """Volume-averaged stress of one annular ring (SPEC 4.7).
 
     ``sigma_ring = (1/V_ring) sum_p V_p,in sigma_p`` where ``V_p,in`` is the
-    part of particle p inside the ring and ``V_ring = pi (r_out^2 - r_in^2)
-    (z_hi - z_lo)``: voids carry no stress, so this is the average over the
-    whole ring volume.
+    part of particle p inside the ring and ``V_ring = (sector/360) pi
+    (r_out^2 - r_in^2) (z_hi - z_lo)``: voids carry no stress, so this is the
+    average over the whole ring volume.
 
     Parameters
     ----------
     sigma_p : (n, 3, 3) Cartesian particle stresses [Pa].
     centres, radii, r_in, r_out, z_lo, z_hi, axis_xy : see
         :func:`sphere_ring_volume`.
+    sector : degrees of the ring the particles fill (360: the whole ring;
+        180 or 90 for a chamber sector bounded by symmetry planes through the
+        axis). The particles' volumes are intersected with the whole ring,
+        as they lie in the sector.
     frame : "cylindrical" (default) rotates each particle's tensor to the
         (r, theta, z) basis at its centre before averaging, so the result's
         [0,0], [1,1], [2,2], [0,2] are sigma_r, sigma_theta, sigma_z, tau_rz.
@@ -293,13 +297,16 @@ def ring_average(sigma_p, centres, radii, r_in, r_out, z_lo, z_hi,
         sig = to_cylindrical_tensor(sig, c[sel, 0], c[sel, 1], axis_xy)
     elif frame != "cartesian":
         raise ValueError("frame must be 'cylindrical' or 'cartesian'")
-    v_ring = np.pi * (r_out ** 2 - r_in ** 2) * (z_hi - z_lo)
+    if not 0.0 < sector <= 360.0:
+        raise ValueError("sector must be in (0, 360] degrees, got %r" % (sector,))
+    v_ring = sector / 360.0 * np.pi * (r_out ** 2 - r_in ** 2) * (z_hi - z_lo)
     return np.einsum("p,pij->ij", w[sel], sig) / v_ring
 
 
 def ring_averages(sigma_p, centres, radii, r_edges, z_edges,
-                  axis_xy=(0.0, 0.0), frame="cylindrical"):
-    """:func:`ring_average` on the grid of rings ``r_edges`` x ``z_edges`` [m].
+                  axis_xy=(0.0, 0.0), frame="cylindrical", sector=360.0):
+    """:func:`ring_average` on the grid of rings ``r_edges`` x ``z_edges`` [m]
+    (``sector`` in degrees, as there).
 
     Returns (len(r_edges)-1, len(z_edges)-1, 3, 3) stresses [Pa].
     """
@@ -310,5 +317,5 @@ def ring_averages(sigma_p, centres, radii, r_edges, z_edges,
         for b in range(z_edges.size - 1):
             out[a, b] = ring_average(sigma_p, centres, radii, r_edges[a],
                                      r_edges[a + 1], z_edges[b], z_edges[b + 1],
-                                     axis_xy, frame)
+                                     axis_xy, frame, sector)
     return out
