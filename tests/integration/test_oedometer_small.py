@@ -260,7 +260,8 @@ def test_breakage_grows_with_stress(crushable):
     k_peak = np.flatnonzero(load)[-1]
     assert br[k_peak] > br[k1], (br[k1], br[k_peak])
     # no breakage on unloading below the peak (the strongest loading is over)
-    assert br[-1] == br[k_peak]
+    # constant from the peak on, to round-off (Br is summed afresh every step)
+    assert br[-1] == pytest.approx(br[k_peak], rel=1e-12, abs=0)
     # 14 fragments replace each parent (no fragment goes to fines here)
     np.testing.assert_array_equal(p["Atoms"] - p["Atoms"][0], 13 * nb)
     events = [l for l in (crushable.out / "breakage_events.txt").read_text().splitlines()
