@@ -3,19 +3,22 @@
 
     examples/cpt_demo/run.py --out results/demo [--np 2] [--mode cyclic|monotonic]
 
-Builds the loose packing and the meshes, runs LIGGGHTS (preparation by radius
-expansion, servo to 150 kPa vertical / 76 kPa radial, then jacking with the
-lateral wall held), and writes into --out: summary.json, qc_depth.png (q_c
-against depth with the trend q_c = a (1 - exp(-b h)) fitted to virgin
-penetration), breakage_map.png and breakage_map.txt (breakage events in
-(h/R, r/R) relative to the tip), jack.txt, breakage_events.txt,
-outside_grains.txt, log.liggghts.
+Builds the loose packing and the meshes, runs LIGGGHTS (preparation: radius
+expansion to the core porosity --n-target at 5 kPa, 1-D compression to 150 kPa,
+radial servo to 76 kPa, docs/preparation.md; then jacking with the lateral wall
+held), and writes into --out: summary.json (with the prepared state in
+"prep"), qc_depth.png (q_c against depth with the trend q_c = a (1 - exp(-b h))
+fitted to virgin penetration), breakage_map.png and breakage_map.txt (breakage
+events in (h/R, r/R) relative to the tip), jack.txt, breakage_events.txt,
+outside_grains.txt, log.liggghts, snapshots/prep_<step>.h5 and
+snapshots/jack_<step>.h5.
 
 Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
 grain is outside the chamber at the end, the mass balance is off by more
 than 1e-12, the grain count differs from the count at the start of jacking
 plus 13 per break, or a breakage event lies inside the pile; LIGGGHTS' own
-exit status when it stops (e.g. lost atoms).
+exit status when it stops (e.g. lost atoms, or a preparation stage that
+missed its target).
 """
 
 import argparse
@@ -36,8 +39,10 @@ from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
 from crushpost.pile import PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
+from crushpost.prep import (PAPER_PREPARED, prep_chunk_for, prep_cost, prep_time_step,  # noqa: E402
+                            read_prep_report, snapshot_prep_summary)
 from crushpost.runner import run_liggghts  # noqa: E402
-from crushpost.snapshot import list_snapshots  # noqa: E402
+from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,  # noqa: E402
                                read_sphere_series, write_sphere_block)
 from crushpost.thermo import parse_log  # noqa: E402
@@ -104,14 +109,20 @@ def run_deck(a, out, tip_z0):
                 % (a.v_push, a.stroke, a.v_unload, a.pause, a.depth, a.zero_tol))
     else:
         jack = "mode monotonic v %g depth %g" % (a.v_push, a.depth)
+    dt_prep = a.dt_prep or prep_time_step(os.path.join(out, "grains.data"))
     v = {"inputs": os.path.join(REPO, "inputs"), "N": a.N, "R_ch": a.R_ch, "H_ch": a.H_ch,
          "R_pile": a.R_pile, "R_hole": hole_radius(a.R_pile), "sector": a.sector,
          "grain_model": a.grains, "seed": a.seed, "proc_grid": a.proc_grid,
-         "dt": a.dt, "servo_steps": a.servo_steps, "jack_args": jack,
-         "n_expand_max": a.prep_loops, "s_prep": a.s_prep, "thermo_every": a.thermo_every,
+         "dt": a.dt, "dt_prep": dt_prep, "servo_loops": a.servo_loops, "jack_args": jack,
+         "n_expand_max": a.prep_loops, "n_target": a.n_target, "s_prep": a.s_prep,
+         "prep_chunk": prep_chunk_for(a.R_ch, a.H_ch),
+         "thermo_every": a.thermo_every,
          "jack_every": a.jack_every, "output_block": OUTPUT_BLOCK[a.vtk], "vtk_every": a.vtk_every}
+    if a.prep_only:
+        v["jacking_block"] = "none"
     if a.snapshots == "yes":
         v["snapshot_block"] = "snapshots_hdf5"
+        v["prep_snapshot_block"] = "snapshot_prep"
     if a.spheres == "yes":
         v["spheres_file"] = write_spheres(a, out, tip_z0)
     return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts, name="cpt")
@@ -163,6 +174,35 @@ def _pile_outline(ax, h_max):
     ax.fill([0.0, 1.0, 1.0, 0.0], [0.0, h_cone, top, top], color="0.85", lw=0, zorder=0,
             label="pile")
     ax.plot([0.0, 1.0, 1.0], [0.0, h_cone, top], color="k", lw=0.8, zorder=1)
+
+
+def prep_summary(a, out):
+    """The prepared state (summary.json "prep"): porosity of the core and of
+    the whole sample, [mean, sd] of the ring-averaged sigma_z, sigma_r,
+    sigma_theta [kPa] and the coordination number from the snapshot of the
+    prepared sample (crushpost.prep; without --snapshots the deck's own
+    porosities only), the boundary stresses and the other numbers the deck
+    printed, the LIGGGHTS time and steps the preparation took, and the
+    source paper's values."""
+    log = os.path.join(out, "log.liggghts")
+    rep = read_prep_report(log)
+    seconds, steps = prep_cost(log)
+    done = rep.get("prepared", {})
+    prep = {"prepared": "prepared" in rep, "n_target": a.n_target,
+            "deck": rep, "liggghts_time_s": seconds, "steps": steps, "paper": PAPER_PREPARED}
+    if done:
+        prep["sv_boundary_kPa"] = done["sv"] / 1e3
+        prep["sr_boundary_kPa"] = done["sr"] / 1e3
+        prep["porosity_core"] = done["porosity_core"]
+        prep["porosity_all"] = done["porosity_all"]
+        prep["coordination"] = done["coordination"]
+    snaps = list_snapshots(os.path.join(out, "snapshots", "prep"))
+    if snaps and done:
+        snap = read_snapshot(snaps[-1][1])
+        d50 = D50_NE34 * a.N
+        prep.update(snapshot_prep_summary(snap, a.R_pile, done["R"], done["H"], d50, a.sector))
+        prep["snapshot"] = os.path.relpath(str(snaps[-1][1]), out)
+    return prep
 
 
 def postprocess(a, out, wall, n0, tip_z0):
@@ -281,6 +321,7 @@ def postprocess(a, out, wall, n0, tip_z0):
             "final_mean_stress_kPa": [float(np.trace(sg) / 3e3) for sg in sigma[-1]],
             "final_sigma_zz_kPa": [float(sg[2, 2] / 1e3) for sg in sigma[-1]],
         }
+    summary["prep"] = prep_summary(a, out)
     summary["failed_checks"] = failed_checks(summary)
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
@@ -301,11 +342,20 @@ def main(argv=None):
                    help="simulated sector of the chamber (degrees), bounded by frictionless symmetry planes")
     p.add_argument("--proc-grid", default="* * 1",
                    help="MPI processor grid (LIGGGHTS processors command), e.g. '* * 1'")
-    p.add_argument("--n-target", type=float, default=0.385)
+    p.add_argument("--n-target", type=float, default=0.385,
+                   help="core porosity at the end of the radius expansion")
     p.add_argument("--shrink", type=float, default=0.75)
-    p.add_argument("--prep-loops", type=int, default=40)
-    p.add_argument("--s-prep", type=float, default=50e3, help="radius-expansion stress (Pa)")
-    p.add_argument("--servo-steps", type=int, default=20000)
+    p.add_argument("--prep-loops", type=int, default=150,
+                   help="at most this many radius-expansion chunks (fast phase) and growth cycles")
+    p.add_argument("--s-prep", type=float, default=5e3, help="radius-expansion stress (Pa)")
+    p.add_argument("--servo-loops", type=int, default=40,
+                   help="at most this many chunks of 2000 steps in each servo stage")
+    p.add_argument("--servo-steps", type=int, default=None,
+                   help="(old option) at most this many steps in each servo stage")
+    p.add_argument("--dt-prep", type=float, default=None,
+                   help="time step of the preparation (default 0.15 Rayleigh times of the smallest grain as placed)")
+    p.add_argument("--prep-only", action="store_true",
+                   help="stop after the preparation (no jacking); summary.json holds the prep object")
     p.add_argument("--v-push", type=float, default=1.0)
     p.add_argument("--stroke", type=float, default=0.01)
     p.add_argument("--v-unload", type=float, default=0.5)
@@ -326,18 +376,29 @@ def main(argv=None):
                    help="VTK dumps for ParaView in post/: particles and meshes, or also the contact network")
     p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
     a = p.parse_args(argv)
+    if a.servo_steps is not None:
+        a.servo_loops = max(1, -(-a.servo_steps // 2000))
     a.out = os.path.abspath(a.out)          # LIGGGHTS runs in --out: paths given to it are absolute
     os.makedirs(a.out, exist_ok=True)
     n0, tip_z0 = build(a, a.out)
     try:
         wall = run_deck(a, a.out, tip_z0)
     except SystemExit:
-        # name LIGGGHTS' error (e.g. "Lost atoms: original ... current ...")
+        # name LIGGGHTS' error (e.g. "Lost atoms: original ... current ...",
+        # or a preparation stage that missed its target)
         errors = [ln.strip() for ln in open(os.path.join(a.out, "log.liggghts"), errors="replace")
                   if ln.startswith("ERROR")]
         if errors:
             sys.stderr.write("cpt_demo: %s: %s\n" % (os.path.join(a.out, "log.liggghts"), errors[-1]))
         raise
+    if a.prep_only:
+        summary = {"prep": prep_summary(a, a.out), "wall_time_s": wall, "mpi_ranks": a.np,
+                   "n_particles_initial": int(n0), "N": a.N, "R_chamber_m": a.R_ch,
+                   "H_chamber_m": a.H_ch, "sector_deg": a.sector, "packing_seed": a.packing_seed}
+        with open(os.path.join(a.out, "summary.json"), "w") as f:
+            json.dump(summary, f, indent=2)
+        print(json.dumps(summary, indent=2))
+        return 0
     summary = postprocess(a, a.out, wall, n0, tip_z0)
     print(json.dumps(summary, indent=2))
     for msg in summary["failed_checks"]:

@@ -26,6 +26,7 @@ REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "scripts"))
 
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
+from crushpost.prep import prep_chunk_for, prep_time_step  # noqa: E402
 
 
 def main(argv=None):
@@ -55,7 +56,10 @@ def main(argv=None):
         jack = "mode cyclic v 0.5 stroke 0.1 v_unload 0.05 pause 5e-3 depth %g zero_tol 1.0" % a.depth
     variables = {"inputs": os.path.join(REPO, "inputs"), "deck_dir": HERE, "N": a.N,
                  "R_ch": a.R_ch, "H_ch": a.H_ch, "R_pile": a.R_pile,
-                 "R_hole": hole_radius(a.R_pile), "sector": a.sector, "jack_args": jack}
+                 "R_hole": hole_radius(a.R_pile), "sector": a.sector, "jack_args": jack,
+                 "n_target": a.n_target,
+                 "dt_prep": "%.4g" % prep_time_step(os.path.join(a.out, "grains.data")),
+                 "prep_chunk": prep_chunk_for(a.R_ch, a.H_ch)}
     cmd = ["mpirun", "-np", str(a.np), a.liggghts, "-in", os.path.join(HERE, "in." + a.case),
            "-log", "log.liggghts"]
     for k, v in variables.items():

@@ -6,8 +6,10 @@ the cost estimate of the paper runs in docs/cpt.md.
 
 Makes a reduced chamber with make_chamber.py (N = 39; 0.108 m by 0.2 m is
 about 20,000 grains), runs in.monotonic with a short preparation (a few fast
-radius-expansion chunks and a short servo phase: the packing is close to,
-not at, the target porosity) and then jacking in chunks of 2000 steps, and
+radius-expansion chunks and growth cycles, two servo chunks per stage, with
+prep_strict 0: the packing is near, not at, the prepared state, and the deck
+reports the stages it did not finish instead of stopping) and then jacking
+in chunks of 2000 steps, and
 reports for each rank count: grains, particle-steps per core-second over the
 jacking chunks (atoms * steps / (loop time * ranks)), and LIGGGHTS' memory
 per rank. Writes throughput.json into --out.
@@ -31,8 +33,8 @@ def main(argv=None):
     p.add_argument("--R-ch", type=float, default=0.108)
     p.add_argument("--H-ch", type=float, default=0.2)
     p.add_argument("--jack-steps", type=int, default=6000)
-    p.add_argument("--expand-chunks", type=int, default=5, help="radius-expansion chunks of 2000 steps")
-    p.add_argument("--grow-rate", type=float, default=1e-3)
+    p.add_argument("--expand-chunks", type=int, default=5,
+                   help="radius-expansion chunks and growth cycles at most (prep_strict 0)")
     p.add_argument("--liggghts", default=os.path.join(REPO, "build", "liggghts"))
     p.add_argument("--proc-grid", default=None,
                    help="LIGGGHTS processors grid, e.g. '16 1 1' (default '* * 1', 1 1 1 at 1 rank)")
@@ -51,7 +53,8 @@ def main(argv=None):
         cmd += [a.liggghts, "-in", os.path.join(HERE, "in.monotonic"), "-log", log, "-screen", "none"]
         var = {"inputs": os.path.join(REPO, "inputs"), "deck_dir": HERE, "R_ch": a.R_ch, "H_ch": a.H_ch,
                "jack_args": "mode monotonic v %g depth %g" % (v, depth), "n_expand_max": a.expand_chunks,
-               "grow_rate": a.grow_rate, "servo_steps": 3000, "jack_chunk": 2000, "output_block": "none",
+               "prep_strict": 0, "prep_chunk": 2000, "servo_loops": 2, "jack_chunk": 2000,
+               "output_block": "none", "prep_snapshot_block": "none",
                "thermo_every": 1000, "proc_grid": a.proc_grid or ("* * 1" if n > 1 else "1 1 1")}
         for k, val in var.items():
             cmd += ["-var", k, str(val)]
@@ -61,7 +64,7 @@ def main(argv=None):
         loops = re.findall(r"Loop time of ([\d.eE+-]+) on (\d+) procs for (\d+) steps with (\d+) atoms", jack_part)
         mem = re.findall(r"Memory usage per processor = ([\d.]+) Mbytes", jack_part)
         rates = [int(s) * int(at) / (float(t) * int(pr)) for t, pr, s, at in loops if int(s) > 0]
-        por = re.findall(r"CHAMBER prepared: .* porosity ([\d.]+)", text)
+        por = re.findall(r"porosity_core ([\d.]+)", text)
         results.append({"np": n, "atoms": int(loops[-1][3]), "chunks": len(rates),
                         "porosity_after_servo": float(por[-1]) if por else None,
                         "particle_steps_per_core_s": rates, "best": max(rates),

@@ -23,6 +23,7 @@ import numpy as np  # noqa: E402
 from crushpost import oedometer  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+from crushpost.prep import prep_cost, prep_time_step, read_prep_report  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 
 RHO = 2600.0
@@ -49,7 +50,8 @@ def run_deck(args, out, R, H):
          "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
          "seed": args.seed, "dt": args.dt, "v_load": args.v_load, "sv_max": args.sv_max,
          "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
-         "n_expand_max": args.prep_loops, "grow_rate": args.grow_rate}
+         "n_expand_max": args.prep_loops,
+         "dt_prep": args.dt_prep or prep_time_step(os.path.join(out, "grains.data"))}
     return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np,
                         binary=args.liggghts, name="oedometer")
 
@@ -83,6 +85,7 @@ def postprocess(args, out, wall, n0):
         "sigma_v_max_MPa": float(stress["sv"][load].max() / 1e6),
         "n_break_events": int(stress["n_break"][-1]), "Br_final": float(stress["Br"][-1]),
         "fines_mass": float(stress["fines"][-1]), "wall_time_s": wall, "mpi_ranks": args.np,
+        "prep": prep_report(args, out),
     }
     oedometer.write_hdf5(os.path.join(out, "oedometer.h5"), stress, psd, summary)
     plots = oedometer.plot_all(out, stress, psd,
@@ -93,6 +96,21 @@ def postprocess(args, out, wall, n0):
     return summary
 
 
+def prep_report(args, out):
+    """The prepared sample as the deck reported it (inputs/prepare_expand.in):
+    porosity of the core (farther than one d50 from the walls) and of the
+    whole cell, static mean platen stress, mean coordination number
+    (grain-grain contacts per grain), the friction the expansion ended with,
+    LIGGGHTS time and steps of the preparation."""
+    log = os.path.join(out, "log.liggghts")
+    exp = read_prep_report(log).get("expanded", {})
+    seconds, steps = prep_cost(log, marker="EXPANDED")
+    return {"n_target": args.n_target, "s_prep": args.s_prep,
+            "porosity_core": exp.get("porosity_core"), "porosity_all": exp.get("porosity_all"),
+            "p_static": exp.get("p"), "coordination": exp.get("coordination"),
+            "mu_prep_final": exp.get("mu_prep"), "liggghts_time_s": seconds, "steps": steps}
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=os.path.join(REPO, "results", "oedometer"))
@@ -101,11 +119,15 @@ def main(argv=None):
     p.add_argument("--N", type=float, default=39.0, help="particle up-scaling factor")
     p.add_argument("--R-d50", type=float, default=5.0, help="cell radius in d50")
     p.add_argument("--H-d50", type=float, default=8.0, help="cell height in d50")
-    p.add_argument("--n-target", type=float, default=0.385, help="target porosity of the preparation")
+    p.add_argument("--n-target", type=float, default=0.385,
+                   help="core porosity at the end of the radius expansion")
     p.add_argument("--s-prep", type=float, default=5e3, help="preparation stress (Pa)")
-    p.add_argument("--prep-loops", type=int, default=100, help="max radius-expansion chunks of 2000 steps")
-    p.add_argument("--grow-rate", type=float, default=3e-4,
-                   help="largest relative diameter growth per 20 steps during preparation")
+    p.add_argument("--prep-loops", type=int, default=150,
+                   help="at most this many radius-expansion chunks (fast phase) and growth cycles "
+                   "(docs/preparation.md)")
+    p.add_argument("--dt-prep", type=float, default=None,
+                   help="time step of the preparation (default 0.15 Rayleigh times of the smallest "
+                   "grain as placed)")
     p.add_argument("--shrink", type=float, default=0.75, help="initial size factor before expansion")
     p.add_argument("--sv-max", type=float, default=30e6, help="vertical stress to load to (Pa)")
     p.add_argument("--v-load", type=float, default=1.0, help="platen speed (m/s)")

@@ -26,6 +26,7 @@ import numpy as np  # noqa: E402
 from crushpost import triaxial  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
+from crushpost.prep import prep_cost, read_prep_report  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 
 RHO = 2600.0
@@ -105,8 +106,7 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "e_u_max": args.e_u_max, "e_u_cons": args.e_u_cons,
             "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
             "chunk": args.chunk, "thermo_every": args.thermo_every,
-            "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
-            "grow_rate": args.grow_rate}
+            "dump_every": args.dump_every, "n_expand_max": args.prep_loops}
 
 
 def run_deck(args, out, W, H, dt, dt_prep):
@@ -126,6 +126,7 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
         "inertial_number": args.rate * D50_NE34 * args.N * math.sqrt(RHO / args.sigma3),
         "p_iso": args.p_iso, "sigma3_target": args.sigma3,
         "porosity_start_of_shearing": float(path["porosity"][0]),
+        "prep": prep_report(args, out),
         "e_start_of_shearing": float(path["e_void"][0]),
         "n_break_events": int(path["n_break"][-1]), "Br_final": float(path["Br"][-1]),
     }
@@ -137,6 +138,21 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
+
+
+def prep_report(args, out):
+    """The prepared specimen as the deck reported it (inputs/prepare_expand.in):
+    porosity of the core (farther than one d50 from every plate) and of the
+    whole specimen, static mean stress, mean coordination number (grain-grain
+    contacts per grain), the friction the expansion ended with, LIGGGHTS
+    time and steps of the preparation."""
+    log = os.path.join(out, "log.liggghts")
+    exp = read_prep_report(log).get("expanded", {})
+    seconds, steps = prep_cost(log, marker="EXPANDED")
+    return {"n_target": args.n_target, "s_prep": args.s_prep,
+            "porosity_core": exp.get("porosity_core"), "porosity_all": exp.get("porosity_all"),
+            "p_static": exp.get("p"), "coordination": exp.get("coordination"),
+            "mu_prep_final": exp.get("mu_prep"), "liggghts_time_s": seconds, "steps": steps}
 
 
 def parse_args(argv=None):
@@ -152,12 +168,12 @@ def parse_args(argv=None):
                    % ((SIZES["small"][0],) + SIZES["small"] + (SIZES["default"][0],) + SIZES["default"]))
     p.add_argument("--W-d50", type=float, default=None, help="specimen width in d50")
     p.add_argument("--H-d50", type=float, default=None, help="specimen height in d50")
-    p.add_argument("--n-target", type=float, default=0.385, help="porosity of the preparation")
+    p.add_argument("--n-target", type=float, default=0.385,
+                   help="core porosity at the end of the radius expansion")
     p.add_argument("--s-prep", type=float, default=5e3, help="preparation stress (Pa)")
-    p.add_argument("--prep-loops", type=int, default=100,
-                   help="max radius-expansion chunks of 2000 steps")
-    p.add_argument("--grow-rate", type=float, default=3e-4,
-                   help="largest relative diameter growth per 20 steps during preparation")
+    p.add_argument("--prep-loops", type=int, default=150,
+                   help="at most this many radius-expansion chunks (fast phase) and growth cycles "
+                   "(docs/preparation.md)")
     p.add_argument("--shrink", type=float, default=0.75, help="initial size factor before expansion")
     p.add_argument("--p-iso", type=float, default=100e3, help="isotropic consolidation stress (Pa)")
     p.add_argument("--sigma3", type=float, default=100e3, help="cell pressure while shearing (Pa)")

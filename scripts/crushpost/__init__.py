@@ -12,6 +12,8 @@ Pure functions on numpy arrays; see each module for units and conventions.
 * :mod:`crushpost.dump` - text dumps and the crush event log.
 * :mod:`crushpost.snapshot` - HDF5 snapshots of ``fix snapshot/hdf5`` (h5py).
 * :mod:`crushpost.spheres` - measurement-sphere deck blocks and their output.
+* :mod:`crushpost.prep` - the prepared sample: core porosity, ring statistics
+  of the stress, the decks' preparation report (docs/preparation.md).
 * :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres}``.
 """
 

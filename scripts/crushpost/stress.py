@@ -276,6 +276,10 @@ def ring_average(sigma_p, centres, radii, r_in, r_out, z_lo, z_hi,
     sigma_p : (n, 3, 3) Cartesian particle stresses [Pa].
     centres, radii, r_in, r_out, z_lo, z_hi, axis_xy : see
         :func:`sphere_ring_volume`.
+    sector : degrees of the ring the particles fill (360: the whole ring;
+        180 or 90 for a chamber sector bounded by symmetry planes through the
+        axis). The particles' volumes are intersected with the whole ring,
+        as they lie in the sector.
     frame : "cylindrical" (default) rotates each particle's tensor to the
         (r, theta, z) basis at its centre before averaging, so the result's
         [0,0], [1,1], [2,2], [0,2] are sigma_r, sigma_theta, sigma_z, tau_rz.

@@ -31,8 +31,8 @@ ZERO_TOL = 1.0
 def chamber(tmp_path_factory):
     out = tmp_path_factory.mktemp("chamber")
     cmd = [sys.executable, str(REPO / "examples" / "cpt_demo" / "run.py"), "--out", str(out),
-           "--np", "2", "--R-ch", "0.05", "--H-ch", "0.07", "--prep-loops", "40",
-           "--servo-steps", "20000", "--depth", "0.011", "--stroke", "0.0055",
+           "--np", "2", "--R-ch", "0.05", "--H-ch", "0.07", "--n-target", "0.39",
+           "--depth", "0.011", "--stroke", "0.0055",
            "--pause", "5e-4", "--zero-tol", str(ZERO_TOL), "--thermo-every", "500",
            "--jack-every", "50"]
     if os.environ.get("LIGGGHTS_BIN"):

@@ -2,7 +2,7 @@
 isotropically compressed packing a sphere reads the boundary stress within 10 %,
 at 2 MPI ranks.
 
-The packing is made by radius expansion (inputs/prepare_expand.in) in a cube of
+The packing is made by radius expansion (inputs/grow_to_stress.in) in a cube of
 six frictionless mesh plates. What the test compares (docs/measurement_spheres.md
 has the numbers behind each choice):
 
@@ -77,7 +77,7 @@ variable s_prep index {s_prep}
 variable grow_rate index 1e-3
 variable n_expand_max index 30
 thermo 2000
-include ${{inputs}}/prepare_expand.in
+include ${{inputs}}/grow_to_stress.in
 {spheres}
 dump pairs all local {every} pairs.*.txt c_pgl[1] c_pgl[2] c_pgl[3] c_pgl[4] c_pgl[5] c_pgl[6] c_pgl[16] c_pgl[17] c_pgl[18]
 dump walls all local {every} walls.*.txt c_wgl[1] c_wgl[2] c_wgl[3] c_wgl[4] c_wgl[5] c_wgl[6] c_wgl[16] c_wgl[17] c_wgl[18]

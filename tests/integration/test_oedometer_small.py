@@ -61,11 +61,15 @@ R_D50, H_D50 = 3.5, 6.0
 R_CELL, H_CELL = R_D50 * D50, H_D50 * D50
 A_CELL = math.pi * R_CELL ** 2
 V_LOAD = 1.25          # m/s: neither the deck's nor run.py's default
+# core porosity of the preparation: this cell's core (farther than d50 from
+# the walls) is 2.5 d50 by 4 d50, all of it near a wall, where the packing
+# cannot be made as dense as NE34's 0.385 (docs/preparation.md)
+N_TARGET = 0.40
 SV_MAX = 5e6
 SV_END = 0.05          # the deck's default: unload until sv < SV_END * SV_MAX
-DUMP_EVERY = 2000
+DUMP_EVERY = 1000       # the prepared (dense) sample reaches 5 MPa within about 10,000 steps
 OPTIONS = ["--N", str(N), "--R-d50", str(R_D50), "--H-d50", str(H_D50),
-           "--prep-loops", "15", "--sv-max", str(SV_MAX), "--v-load", str(V_LOAD),
+           "--n-target", str(N_TARGET), "--sv-max", str(SV_MAX), "--v-load", str(V_LOAD),
            "--thermo-every", "250", "--dump-every", str(DUMP_EVERY)]
 RUN_TIMEOUT = 900
 
@@ -321,3 +325,15 @@ def test_hdf5_and_summary(run):
         assert png in s["plots"]
         data = (run.out / png).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, png
+
+
+def test_sample_starts_at_the_target_core_porosity(run):
+    """The preparation (inputs/prepare_expand.in) reached the core porosity
+    N_TARGET at 5 kPa and said so; summary.json reports it with the
+    coordination number; the whole cell (walls included) is looser."""
+    assert "EXPANDED porosity_core" in run.log_text
+    prep = run.summary["prep"]
+    assert abs(prep["porosity_core"] - N_TARGET) <= 0.005, prep
+    assert abs(prep["p_static"] / 5e3 - 1) <= 0.1, prep
+    assert prep["porosity_all"] > prep["porosity_core"]
+    assert 1.0 < prep["coordination"] < 6.0
