@@ -33,7 +33,7 @@ def _driver():
 
 def _args():
     return argparse.Namespace(R_pile=R, mode="cyclic", grains="crushable_ne34", np=2, N=39.0,
-                              R_ch=0.05, H_ch=0.07, sector=360)
+                              R_ch=0.05, H_ch=0.07, sector=360, n_target=0.385)
 
 
 def _write_run(out, M_end_rel=0.0, n_outside=0, events=None, atoms_missing=0):
