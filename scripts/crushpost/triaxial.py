@@ -273,7 +273,7 @@ def plot_all(out_dir, path, res=None, title=""):
                    label="critical state %.3f ($\\phi$ = %.1f$^\\circ$)" % (res["eta_cs"],
                                                                              res["phi_cs_deg"]))
         a1.legend(fontsize=8, loc="lower right")
-    a1.set_ylabel("stress ratio q/p'")
+    a1.set_ylabel("stress ratio q/p' (-)")
     a1.set_title(title or "drained triaxial compression")
     a1.grid(True, alpha=0.3)
     a2.plot(ea, 100 * np.asarray(path["eps_v"]), "-", lw=1.2)
