@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import oedometer  # noqa: E402
+from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
 from crushpost.prep import prep_cost, prep_time_step, read_prep_report  # noqa: E402
@@ -63,8 +64,14 @@ def postprocess(args, out, wall, n0):
     pattern = os.path.join(out, "dump.grains.*.txt")
     if args.dump_every > 0:
         sizes = np.geomspace(0.05 * d50, 2.5 * d50, 60)
-        fines_of = lambda s: float(np.interp(s, stress["Step"], stress["fines"]))
-        steps, F = oedometer.psd_snapshots(pattern, RHO, sizes, fines_of)
+        ev_path = os.path.join(out, "breakage_events.txt")
+        if os.path.exists(ev_path):
+            # the fines of each break spread as fix crush/particle counts them
+            # for Br (fines_grading fractal, d_min of inputs/crushable_ne34.in)
+            steps, F = oedometer.psd_snapshots(pattern, RHO, sizes, events=read_crush_log(ev_path),
+                                               d_min=0.01e-3 * args.N)
+        else:
+            steps, F = oedometer.psd_snapshots(pattern, RHO, sizes)
         sv = np.interp(steps, stress["Step"], stress["sv"])
         # a few snapshots on loading spread over log(stress)
         load_end = stress["Step"][stress["phase"] == 0][-1]
