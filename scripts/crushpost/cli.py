@@ -1,4 +1,4 @@
-"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres} ...``."""
+"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres,report} ...``."""
 
 import argparse
 import gzip
@@ -242,7 +242,8 @@ def _cmd_spheres(args):
 
 
 def build_parser():
-    """The argparse parser with the ``br``, ``fit-qc``, ``thermo``, ``pile`` and ``spheres`` subcommands."""
+    """The argparse parser with the ``br``, ``fit-qc``, ``thermo``, ``pile``, ``spheres`` and
+    ``report`` subcommands."""
     ap = argparse.ArgumentParser(prog="crushpost",
                                  description="Post-processing of crushable-sand DEM runs.")
     sub = ap.add_subparsers(dest="command", required=True)
@@ -342,7 +343,46 @@ def build_parser():
     sp.add_argument("--prefix", default="ms", help="prefix of the IDs it defines (default ms)")
     sp.add_argument("--out", required=True, help="block file to write (e.g. spheres.in)")
     sp.set_defaults(func=_cmd_spheres)
+
+    rp = sub.add_parser("report", help="the analyses of a chamber run: figures (PNG), "
+                        "fields.h5 and report.html (docs/report.md)")
+    rp.add_argument("run_dir", help="the run's folder (examples/cpt_demo/run.py --out): "
+                    "jack.txt, breakage_events.txt, snapshots/, spheres.in/.txt, "
+                    "log.liggghts, summary.json")
+    rp.add_argument("--out", default=None, help="output folder (default RUN_DIR/report)")
+    rp.add_argument("--reference", default=None,
+                    help="JSON or CSV of named values with their sources, shown beside the "
+                    "run's headline numbers (docs/report.md lists the names)")
+    rp.add_argument("--ring-width", type=float, default=None,
+                    help="ring width [m] (default the pile radius R)")
+    rp.add_argument("--ring-height", type=float, default=0.025,
+                    help="ring height [m] (default 0.025)")
+    rp.add_argument("--min-grains", type=int, default=65,
+                    help="rings with fewer grains (centres) are flagged (default 65)")
+    rp.add_argument("--profile-h", type=float, nargs="+", default=[-2.0, 0.0, 2.0, 5.0],
+                    help="heights h/R above the apex of the radial profiles (default -2 0 2 5)")
+    rp.add_argument("--history-r", type=float, nargs="+", default=[3.0, 5.0, 8.0],
+                    help="r/R of the stress-history lines (default 3 5 8)")
+    rp.add_argument("--band-width", type=float, default=1.0,
+                    help="width of the radial bands of Br, in R (default 1: 1<r/R<2, ...)")
+    rp.add_argument("--qc-norm", choices=("push", "steady"), default="push",
+                    help="q_c that normalises the stresses: at the end of the last push "
+                    "(default) or the steady q_c of the trend fit")
+    rp.add_argument("--pile-radius", type=float, default=None,
+                    help="pile radius R [m] (default summary.json's R_pile_m)")
+    rp.add_argument("--N", type=float, default=None,
+                    help="up-scaling factor N, for Br's d_min, d_max (default summary.json's)")
+    rp.add_argument("--sector", type=int, default=None, choices=(360, 180, 90),
+                    help="simulated sector [deg] (default summary.json's, else from the grains)")
+    rp.add_argument("--quiet", action="store_true", help="print errors only")
+    rp.set_defaults(func=_cmd_report)
     return ap
+
+
+def _cmd_report(args):
+    from .report import main_report
+
+    return main_report(args)
 
 
 def main(argv=None):
