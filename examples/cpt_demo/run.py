@@ -11,7 +11,11 @@ held), and writes into --out: summary.json (with the prepared state in
 fitted to virgin penetration), breakage_map.png and breakage_map.txt (breakage
 events in (h/R, r/R) relative to the tip), jack.txt, breakage_events.txt,
 outside_grains.txt, log.liggghts, snapshots/prep_<step>.h5 and
-snapshots/jack_<step>.h5.
+snapshots/jack_<step>.h5. While LIGGGHTS runs it prints a line per preparation
+stage and per phase of the pile (depth, q_c, breaks so far, elapsed time, an
+estimate of the time left; crushpost.progress), and at the end the folder it
+wrote into (--json: also summary.json on stdout). The full analyses of the
+run: python3 -m crushpost report OUT (docs/report.md; scripts/demo runs it).
 
 Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
 grain is outside the chamber at the end, the mass balance is off by more
@@ -41,6 +45,7 @@ from crushpost.packing import D50_NE34  # noqa: E402
 from crushpost.pile import PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
 from crushpost.prep import (PAPER_PREPARED, prep_chunk_for, prep_cost, prep_time_step,  # noqa: E402
                             read_prep_report, snapshot_prep_summary)
+from crushpost.progress import ChamberProgress, run_watched  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,  # noqa: E402
@@ -103,7 +108,7 @@ def write_spheres(a, out, tip_z0):
     return path
 
 
-def run_deck(a, out, tip_z0):
+def run_deck(a, out, tip_z0, progress=None):
     if a.mode == "cyclic":
         jack = ("mode cyclic v %g stroke %g v_unload %g pause %g depth %g zero_tol %g"
                 % (a.v_push, a.stroke, a.v_unload, a.pause, a.depth, a.zero_tol))
@@ -125,6 +130,10 @@ def run_deck(a, out, tip_z0):
         v["prep_snapshot_block"] = "snapshot_prep"
     if a.spheres == "yes":
         v["spheres_file"] = write_spheres(a, out, tip_z0)
+    if progress is not None:
+        # a line per preparation stage and per phase of the pile while it runs
+        return run_watched(os.path.join(HERE, "in.cpt"), out, v, progress, np=a.np,
+                           binary=a.liggghts, name="cpt_demo")
     return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts, name="cpt")
 
 
@@ -375,14 +384,20 @@ def main(argv=None):
     p.add_argument("--vtk", default="none", choices=["none", "particles", "contacts"],
                    help="VTK dumps for ParaView in post/: particles and meshes, or also the contact network")
     p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
+    p.add_argument("--json", action="store_true",
+                   help="print summary.json on stdout at the end (default: a few lines)")
     a = p.parse_args(argv)
     if a.servo_steps is not None:
         a.servo_loops = max(1, -(-a.servo_steps // 2000))
     a.out = os.path.abspath(a.out)          # LIGGGHTS runs in --out: paths given to it are absolute
     os.makedirs(a.out, exist_ok=True)
+    print("cpt_demo: writing into %s" % a.out, flush=True)
     n0, tip_z0 = build(a, a.out)
+    print("cpt_demo: %d grains placed; LIGGGHTS on %d MPI ranks (log: %s)"
+          % (n0, a.np, os.path.join(a.out, "log.liggghts")), flush=True)
+    progress = ChamberProgress(a.out, 0.0 if a.prep_only else a.depth, a.R_pile)
     try:
-        wall = run_deck(a, a.out, tip_z0)
+        wall = run_deck(a, a.out, tip_z0, progress)
     except SystemExit:
         # name LIGGGHTS' error (e.g. "Lost atoms: original ... current ...",
         # or a preparation stage that missed its target)
@@ -397,10 +412,19 @@ def main(argv=None):
                    "H_chamber_m": a.H_ch, "sector_deg": a.sector, "packing_seed": a.packing_seed}
         with open(os.path.join(a.out, "summary.json"), "w") as f:
             json.dump(summary, f, indent=2)
-        print(json.dumps(summary, indent=2))
+        if a.json:
+            print(json.dumps(summary, indent=2))
+        print("cpt_demo: prepared sample in %s (summary.json)" % a.out)
         return 0
     summary = postprocess(a, a.out, wall, n0, tip_z0)
-    print(json.dumps(summary, indent=2))
+    if a.json:
+        print(json.dumps(summary, indent=2))
+    print("cpt_demo: q_c trend a = %.3g +- %.2g MPa (%s), %d breaks, mass balance %.2g, "
+          "LIGGGHTS %.0f s" % (summary["qc_steady_MPa"], summary["qc_fit_a_err_MPa"],
+                               "levelled off" if summary["qc_levelled_off"] else
+                               "not levelled off: a lower estimate", summary["n_break_events"],
+                               summary["mass_balance_rel_error"], wall))
+    print("cpt_demo: results in %s (summary.json, %s)" % (a.out, ", ".join(summary["plots"])))
     for msg in summary["failed_checks"]:
         sys.stderr.write("cpt_demo: FAILED: %s\n" % msg)
     return 1 if summary["failed_checks"] else 0

@@ -667,9 +667,7 @@ def _states(rep, ctx):
         states.append(info)
         # Br in radial bands x layers, and the PSD of the whole sample
         if N:
-            b_edges = np.arange(1.0, r_edges[-1] / R + 1e-9, opt.band_width)
-            if b_edges.size < 2:
-                b_edges = np.array([1.0, r_edges[-1] / R])
+            b_edges = _band_edges(r_edges[-1] / R, opt.band_width)
             rr = np.hypot(x[:, 0], x[:, 1]) / R
             cell = _band_cell(rr, x[:, 2], b_edges, z_edges)
             if first is None:
@@ -734,6 +732,17 @@ def _states(rep, ctx):
     _fig_bands(rep, ctx)
     _fig_psd(rep, ctx)
     _fig_increments(rep, ctx)
+
+
+def _band_edges(r_max, width):
+    """Band edges in r/R from 1 (the shaft) to r_max by ``width``; the last
+    band ends at r_max (one narrower than width/4 joins the band before)."""
+    edges = list(np.arange(1.0, r_max, width))
+    if r_max - edges[-1] < 0.25 * width and len(edges) > 1:
+        edges[-1] = r_max
+    else:
+        edges.append(r_max)
+    return np.array(edges)
 
 
 def _band_cell(r_over_R, z, b_edges, z_edges):
@@ -1083,7 +1092,8 @@ def _fig_bands(rep, ctx):
     axes[0].grid(True, alpha=0.3)
     for i, b in enumerate(bands):
         axes[1].plot(np.arange(len(states)), brb[:, i], "-o", ms=3, label=b)
-    axes[1].set_xlabel("state (0 = first)")
+    axes[1].set_xticks(np.arange(len(states)))
+    axes[1].set_xticklabels([_short_label(s) for s in states], fontsize=7, rotation=90)
     axes[1].set_ylabel("Br over the whole height (-)")
     axes[1].legend(fontsize=6)
     axes[1].grid(True, alpha=0.3)
