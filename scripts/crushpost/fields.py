@@ -245,12 +245,14 @@ def qc_trend_band(h, h_data, q_data, a, b):
 
 def qc_reference(steps, jack_step, jack_qc, jack_phase, push_phase=0):
     """q_c to normalise the stresses of states at ``steps``: the tip
-    resistance of the latest row of the pile series that was pushing at or
-    before each step (the end of the last push, also for the end of a
-    pause, whose own q_c is near zero). NaN before the first push."""
+    resistance of the latest row of the pile series that was pushing before
+    each step (the end of the last push, also for the end of a pause, whose
+    own q_c is near zero). A row at the state's own step is left out: its
+    phase is the one after that step's change (a pause that ended there
+    shows the next push, with no load yet). NaN before the first push."""
     js = np.asarray(jack_step)
     push = np.asarray(jack_phase) == push_phase
     ps, pq = js[push], np.asarray(jack_qc, dtype=float)[push]
-    k = np.searchsorted(ps, np.asarray(steps), side="right") - 1
+    k = np.searchsorted(ps, np.asarray(steps), side="left") - 1
     return np.where(k >= 0, pq[np.clip(k, 0, max(ps.size - 1, 0))] if ps.size else np.nan,
                     np.nan)

@@ -902,7 +902,10 @@ def _fig_contours(rep, ctx):
         fig.suptitle("%s: stresses over q_c = %.3g MPa" % (_state_label(s), qn[k] / 1e6),
                      fontsize=10)
         fig.tight_layout()
-        name = "stress_%02d_%s.png" % (k, s["kind"])
+        name = "stress_%s%s.png" % ({"push_end": "push", "pause_end": "pause"}.get(
+            s["kind"], "state"), s.get("cycle", ""))
+        if name in names:
+            name = name[:-4] + "_step%d.png" % s["step"]
         rep.figure(fig, name, "Stresses around the pile, %s" % _state_label(s),
                    "Ring averages of sigma_r, sigma_theta, sigma_z over q_c (%s) in (r/R, h/R); "
                    "h is the height above the cone apex at this state. Hatched: fewer than %d "
@@ -920,7 +923,7 @@ def _fig_profiles(rep, ctx):
     qn = ctx["qc_norm"]
     hs = np.array(rep.opt.profile_h, dtype=float)
     rmid = ctx["r_mid"] / R
-    ks = [k for k, s in enumerate(states) if s["kind"] != "initial" and np.isfinite(qn[k])]
+    ks = [k for k, s in enumerate(states) if s["kind"] != "initial" and qn[k] > 0]
     if not ks:
         return
     prof = np.full((len(states), hs.size, rmid.size, 3), np.nan)
@@ -960,7 +963,7 @@ def _fig_histories(rep, ctx):
         return
     plt = _plt()
     qn = ctx["qc_norm"]
-    ks = [k for k, s in enumerate(states) if s["kind"] != "initial" and np.isfinite(qn[k])]
+    ks = [k for k, s in enumerate(states) if s["kind"] != "initial" and qn[k] > 0]
     re_ = ctx["r_edges"] / R
     lines = []
     for r in rep.opt.history_r:

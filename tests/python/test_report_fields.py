@@ -309,7 +309,9 @@ def test_qc_reference_is_the_last_push():
     steps = np.array([10, 20, 30, 40, 50, 60])
     qc = np.array([1.0, 2.0, 0.1, 0.0, 3.0, 4.0])
     phase = np.array([0, 0, 1, 2, 0, 0])
-    out = qc_reference([5, 20, 45, 60], steps, qc, phase)
+    # a push end at 30 (its row shows the unload), a pause end at 50 (its
+    # row shows the next push, not loaded yet)
+    out = qc_reference([5, 30, 50, 61], steps, qc, phase)
     assert np.isnan(out[0]) and out[1:].tolist() == [2.0, 2.0, 4.0]
 
 
