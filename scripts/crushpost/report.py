@@ -875,7 +875,12 @@ def _fig_contours(rep, ctx):
     re_ = ctx["r_edges"] / R
     names = []
     for k, s in enumerate(states):
-        if s["kind"] == "initial" or not np.isfinite(qn[k]) or qn[k] <= 0:
+        if s["kind"] == "initial":
+            continue
+        if not qn[k] > 0:
+            rep.skip("stresses over q_c at the %s" % _state_label(s),
+                     "q_c at the end of the last push is %s (the cone touched no grain; "
+                     "--qc-norm steady normalises by the trend's plateau)" % _fmt(qn[k]))
             continue
         he = (ctx["z_edges"] - s["z_tip"]) / R
         fig, axes = plt.subplots(1, 3, figsize=(12, 4.2), sharey=True)

@@ -1,0 +1,157 @@
+"""Open a chamber run's VTK series in ParaView (issue 10 item 5).
+
+Run it with ParaView's Python (not /usr/bin/python3)::
+
+    pvpython scripts/crushpost/paraview_state.py RUN_DIR [--state run.pvsm] [--png run.png]
+    paraview --script=scripts/crushpost/paraview_state.py      # RUN_DIR from $CRUSH_RUN_DIR
+
+It reads the files the decks' vtk_dumps.in block writes into RUN_DIR/post/
+(examples/cpt_demo/run.py --vtk particles): the grains
+(``post/grains_<step>.vtk``: points with radius, the per-particle stress
+components sp_xx ... sp_yz [Pa, compression positive], sigma_lim [Pa] and
+generation) and the meshes (``post/meshes_<step>.vtk``: the chamber's walls
+and the pile's cone and shaft, with their normal_stress_average [Pa]).
+It builds three views side by side, with linked cameras, of the grains
+(spheres of their own radius) cut by the vertical plane y = 0 through the
+pile axis (whole grains kept), coloured by
+
+1. the mean stress p = (sp_xx + sp_yy + sp_zz) / 3 [kPa] ("p_kPa"),
+2. the strength sigma_lim [MPa] ("sigma_lim_MPa"),
+3. the generation (0: an original grain, 1: a fragment of one, ...),
+
+each with the meshes (opacity 0.3, coloured by their normal stress). The
+time slider steps through the series. ``--state FILE`` saves a ParaView
+state file (File > Load State opens it in the GUI; it holds absolute
+paths); ``--png FILE`` saves a screenshot of the three views.
+
+The module imports without ParaView: the file patterns and the arrays it
+uses are constants that tests/integration/test_report_small.py checks
+against the VTK files LIGGGHTS writes.
+"""
+
+import glob
+import os
+import re
+import sys
+
+__all__ = ["GRAINS_GLOB", "MESHES_GLOB", "GRAIN_ARRAYS", "MESH_ARRAYS", "VIEWS",
+           "grain_files", "mesh_files", "main"]
+
+#: the grains of every dump step (bounding-box files of the dump excluded)
+GRAINS_GLOB = os.path.join("post", "grains_*.vtk")
+#: all meshes of every dump step (dump mesh/vtk writes them into one file)
+MESHES_GLOB = os.path.join("post", "meshes_*.vtk")
+#: point arrays of the grains the script uses
+GRAIN_ARRAYS = ("radius", "sp_xx", "sp_yy", "sp_zz", "sigma_lim", "generation")
+#: cell arrays of the meshes the script uses
+MESH_ARRAYS = ("normal_stress_average",)
+#: (array shown, calculator function or None, title) of the three views
+VIEWS = (("p_kPa", "(sp_xx+sp_yy+sp_zz)/3000", "mean stress p (kPa)"),
+         ("sigma_lim_MPa", "sigma_lim/1000000", "strength sigma_lim (MPa)"),
+         ("generation", None, "generation (0 = original grain)"))
+
+_STEP = re.compile(r"_(\d+)\.vtk$")
+
+
+def _series(run_dir, pattern, exclude=None):
+    files = [f for f in glob.glob(os.path.join(glob.escape(run_dir), pattern))
+             if _STEP.search(f) and not (exclude and exclude in os.path.basename(f))]
+    return sorted(files, key=lambda f: int(_STEP.search(f).group(1)))
+
+
+def grain_files(run_dir):
+    """The grains' VTK files of a run, by step."""
+    return _series(run_dir, GRAINS_GLOB, exclude="boundingBox")
+
+
+def mesh_files(run_dir):
+    """The meshes' VTK files of a run, by step."""
+    return _series(run_dir, MESHES_GLOB)
+
+
+def _args(argv):
+    import argparse
+    ap = argparse.ArgumentParser(description="Open a chamber run's VTK series in ParaView.")
+    ap.add_argument("run_dir", nargs="?", default=os.environ.get("CRUSH_RUN_DIR"),
+                    help="the run's folder (default $CRUSH_RUN_DIR)")
+    ap.add_argument("--state", help="save a ParaView state file (.pvsm)")
+    ap.add_argument("--png", help="save a screenshot of the three views")
+    # inside the ParaView GUI (--script) argv holds ParaView's own options
+    a, _ = ap.parse_known_args(argv)
+    if a.run_dir and a.run_dir.startswith("-"):
+        a.run_dir = os.environ.get("CRUSH_RUN_DIR")
+    if not a.run_dir:
+        ap.error("give RUN_DIR (or set CRUSH_RUN_DIR)")
+    return a
+
+
+def main(argv=None):
+    a = _args(sys.argv[1:] if argv is None else argv)
+    grains, meshes = grain_files(a.run_dir), mesh_files(a.run_dir)
+    if not grains:
+        sys.stderr.write("paraview_state: no %s in %s (run the scene with --vtk particles)\n"
+                         % (GRAINS_GLOB, a.run_dir))
+        return 1
+    import paraview.simple as pv
+
+    g = pv.LegacyVTKReader(registrationName="grains", FileNames=grains)
+    # a vertical cut through the pile axis, keeping whole grains
+    clip = pv.Clip(registrationName="cut y=0", Input=g)
+    clip.ClipType = "Plane"
+    clip.ClipType.Origin = [0.0, 0.0, 0.0]
+    clip.ClipType.Normal = [0.0, 1.0, 0.0]
+    clip.Crinkleclip = 1
+    m = pv.LegacyVTKReader(registrationName="meshes", FileNames=meshes) if meshes else None
+    layout = pv.CreateLayout("chamber run")
+    views = []
+    for name, function, title in VIEWS:
+        src = clip
+        if function:
+            src = pv.Calculator(registrationName=name, Input=clip)
+            src.ResultArrayName = name
+            src.Function = function
+        glyph = pv.Glyph(registrationName="grains " + name, Input=src, GlyphType="Sphere")
+        glyph.ScaleArray = ["POINTS", "radius"]
+        glyph.ScaleFactor = 2.0            # the glyph sphere has radius 0.5
+        glyph.GlyphMode = "All Points"
+        glyph.GlyphType.ThetaResolution = 12
+        glyph.GlyphType.PhiResolution = 8
+        view = pv.CreateView("RenderView")
+        pv.AssignViewToLayout(view=view, layout=layout)
+        d = pv.Show(glyph, view)
+        pv.ColorBy(d, ("POINTS", name))
+        d.RescaleTransferFunctionToDataRange(True, False)
+        d.SetScalarBarVisibility(view, True)
+        lut = pv.GetColorTransferFunction(name)
+        lut.ApplyPreset("Viridis (matplotlib)", True)
+        bar = pv.GetScalarBar(lut, view)
+        bar.Title = title
+        bar.ComponentTitle = ""
+        if m is not None:
+            md = pv.Show(m, view)
+            pv.ColorBy(md, ("CELLS", MESH_ARRAYS[0]))
+            md.Opacity = 0.3
+        view.OrientationAxesVisibility = 1
+        view.CameraPosition = [0.0, -1.0, 0.0]
+        view.CameraFocalPoint = [0.0, 0.0, 0.0]
+        view.CameraViewUp = [0.0, 0.0, 1.0]
+        pv.ResetCamera(view)
+        views.append(view)
+    for k, v in enumerate(views[1:], 1):
+        pv.AddCameraLink(views[0], v, "camera%d" % k)
+    scene = pv.GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    scene.AnimationTime = scene.EndTime
+    pv.SetActiveView(views[0])
+    pv.Render()
+    if a.state:
+        pv.SaveState(a.state)
+    if a.png:
+        pv.SaveScreenshot(a.png, layout, ImageResolution=[1800, 700])
+    return 0
+
+
+if __name__ == "__main__":
+    status = main()
+    if status:          # exit only on failure: inside the ParaView GUI exit would close it
+        sys.exit(status)
