@@ -19,7 +19,8 @@ from .breakage import (N_BINS, W_FRACTAL, _fractal_P, break_fines, limit_bin_int
 from .rotation import major_axis_angle
 from .trend import qc_trend
 
-__all__ = ["stress_quantities", "interp_columns", "radial_increments", "binned_mean",
+__all__ = ["stress_quantities", "interp_columns", "interp_radius", "radial_increments",
+           "binned_mean",
            "event_density", "cell_breakage", "qc_trend_band", "qc_reference"]
 
 
@@ -67,6 +68,20 @@ def interp_columns(values, z_mid, z_targets):
     outside = (t < z[0]) | (t > z[-1])
     out[outside] = np.nan
     return out
+
+
+def interp_radius(values, r_mid, r, axis=-2):
+    """Values of a ring grid on the line at radius ``r``: linear in r between
+    the centres ``r_mid`` of the two columns around it, the nearest column's
+    value beyond the first or last centre. ``values`` has the columns along
+    ``axis`` (default -2, as (..., n_r, n_z)); that axis is removed."""
+    v = np.moveaxis(np.asarray(values, dtype=float), axis, 0)
+    rm = np.asarray(r_mid, dtype=float)
+    if rm.size == 1:
+        return v[0]
+    i = int(np.clip(np.searchsorted(rm, r) - 1, 0, rm.size - 2))
+    f = float(np.clip((r - rm[i]) / (rm[i + 1] - rm[i]), 0.0, 1.0))
+    return v[i] * (1.0 - f) + v[i + 1] * f
 
 
 def radial_increments(id0, x0, id1, x1, axis_xy=(0.0, 0.0)):

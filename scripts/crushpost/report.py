@@ -36,7 +36,7 @@ import numpy as np
 
 from .breakage import W_FRACTAL, break_fines, fractal_psd, psd_curve, sphere_mass
 from .dump import read_crush_log
-from .fields import (binned_mean, cell_breakage, event_density, interp_columns,
+from .fields import (binned_mean, cell_breakage, event_density, interp_columns, interp_radius,
                      qc_reference, qc_trend_band, radial_increments, stress_quantities)
 from .pile import PHASE_PAUSE, PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at
 from .prep import ring_edges
@@ -970,27 +970,26 @@ def _fig_histories(rep, ctx):
     qn = ctx["qc_norm"]
     ks = [k for k, s in enumerate(states) if s["kind"] != "initial" and qn[k] > 0]
     re_ = ctx["r_edges"] / R
+    rm = ctx["r_mid"] / R
     lines = []
     for r in rep.opt.history_r:
-        i = int(np.searchsorted(re_, r, side="right") - 1)
-        if 0 <= i < re_.size - 1:
-            lines.append((r, i))
-        else:
+        if not re_[0] <= r <= re_[-1]:
             rep.skip("stress history at r/R = %g" % r, "outside this chamber (r/R <= %.3g)"
                      % re_[-1])
+            continue
+        lines.append(r)
     if not lines or not ks:
         return
-    hist = {}
     fig, axes = plt.subplots(len(lines), 3, figsize=(11, 2.8 * len(lines)), squeeze=False)
     n_z = ctx["z_mid"].size
     cmap = plt.get_cmap("plasma")
-    for a, (r, i) in enumerate(lines):
-        hr = ctx["h_over_R"][ks]                       # (n_k, n_z)
+    hr = ctx["h_over_R"][ks]                           # (n_k, n_z)
+    for a, r in enumerate(lines):
         grp = "histories/r_over_R_%g" % r
-        vals = {c: A[c][ks, i, :] / qn[ks][:, None] for c in COMPONENTS}
+        # linear in r between the centres of the two ring columns around r
+        vals = {c: interp_radius(A[c][ks], rm, r, axis=1) / qn[ks][:, None] for c in COMPONENTS}
         rep.put(grp, state=np.array(ks), h_over_R=hr, **vals)
-        rep.attrs(grp, ring_column=i, r_lo_over_R=re_[i], r_hi_over_R=re_[i + 1])
-        hist[r] = vals
+        rep.attrs(grp, r_over_R=r)
         for j, c in enumerate(COMPONENTS):
             ax = axes[a, j]
             for z in range(n_z):
@@ -998,16 +997,16 @@ def _fig_histories(rep, ctx):
                         color=cmap(z / max(n_z - 1, 1)),
                         label="layer z = %.3g m" % ctx["z_mid"][z] if a == 0 and j == 0 else None)
             ax.axhline(0.0, color="k", lw=0.5, ls=":")
-            ax.set_title("%s / q_c, ring %.3g < r/R < %.3g" % (LABEL[c], re_[i], re_[i + 1]),
-                         fontsize=9)
+            ax.set_title("%s / q_c at r/R = %g" % (LABEL[c], r), fontsize=9)
             ax.set_ylabel("h / R (-)")
             ax.grid(True, alpha=0.3)
     axes[0, 0].legend(fontsize=6)
     fig.tight_layout()
     rep.figure(fig, "stress_history.png", "Stress histories along r/R lines",
-               "Each curve follows one fixed ring (a layer of the column holding r/R) through "
-               "the states (ends of pushes and pauses): its stress over q_c against its height "
-               "h/R above the apex, which falls as the tip passes it.")
+               "Each curve follows one fixed point (a layer's centre height on the line r/R, "
+               "linear in r between the two ring columns around it) through the states (ends "
+               "of pushes and pauses): its stress over q_c against its height h/R above the "
+               "apex, which rises as the tip goes down past it.")
 
 
 def _fig_rotation(rep, ctx):

@@ -209,6 +209,12 @@ def test_fields_h5_holds_the_numbers(report, run):
         # the layers go down from the sand surface
         assert f["rings/z_edges"][-1] == pytest.approx(Z_REF)
         assert f["rings/h_over_R"][1] == pytest.approx((f["rings/z_mid"][()] - (Z_REF - 0.0099)) / R)
+        # the history line r/R = 3 lies beyond the last ring centre (r/R = 2.67): its column
+        hist = f["histories/r_over_R_3"]
+        ks = hist["state"][()]
+        assert ks.tolist() == [1, 2, 3]
+        want = f["rings/sigma_z"][()][ks, 2, :] / f["states/qc_norm"][()][ks][:, None]
+        assert np.allclose(hist["sigma_z"][()], want, rtol=1e-12)
         assert f["qc"].attrs["a"] == pytest.approx(A_QC, rel=1e-6)
         assert f["qc"].attrs["b"] == pytest.approx(B_QC, rel=1e-6)
         assert f["breakage/events/h_over_R"].shape == (6,)

@@ -9,6 +9,7 @@ import pytest
 
 from crushpost.breakage import breakage, sphere_mass
 from crushpost.fields import (binned_mean, cell_breakage, event_density, interp_columns,
+                              interp_radius,
                               qc_reference, qc_trend_band, radial_increments, stress_quantities)
 from crushpost.rings import (cylinder_below_volume, fast_particle_stress, ring_fields,
                              ring_volumes, sphere_cell_volumes)
@@ -238,6 +239,15 @@ def test_interp_columns_is_exact_for_a_linear_field():
     out = interp_columns(v, z_mid, [0.02, 0.05, 0.07])
     assert np.allclose(out[:2], [[1.04, 4.98], [1.10, 4.95]])
     assert np.all(np.isnan(out[2]))
+
+
+def test_interp_radius_is_exact_for_a_linear_field():
+    r_mid = np.array([0.5, 1.5, 2.5, 3.5])
+    v = np.stack([np.outer(3.0 + 2.0 * r_mid, [1.0, 10.0])] * 2)      # (2, n_r, n_z)
+    assert np.allclose(interp_radius(v, r_mid, 3.0, axis=1), [[9.0, 90.0]] * 2)
+    assert np.allclose(interp_radius(v, r_mid, 1.5, axis=1), [[6.0, 60.0]] * 2)
+    # beyond the last centre: the last column
+    assert np.allclose(interp_radius(v, r_mid, 3.9, axis=1), [[10.0, 100.0]] * 2)
 
 
 def test_event_density_of_uniform_points():
