@@ -90,6 +90,16 @@ def test_partial_volumes_match_the_ring_by_ring_quadrature_and_add_up():
     assert np.allclose(M[inside].sum(axis=1), v[inside], rtol=1e-9)
 
 
+def test_partial_volumes_converge():
+    # 16 Gauss points (the default) against 64, for spheres cut every way
+    c, a = _cloud(3000, 11)
+    n_cells = (R_EDGES.size - 1) * (Z_EDGES.size - 1)
+    m16 = _dense(sphere_cell_volumes(c, a, R_EDGES, Z_EDGES), len(a), n_cells)
+    m64 = _dense(sphere_cell_volumes(c, a, R_EDGES, Z_EDGES, n_gauss=64), len(a), n_cells)
+    v = 4.0 / 3.0 * np.pi * a ** 3
+    assert np.max(np.abs(m16 - m64).max(axis=1) / v) < 3e-9
+
+
 def test_cylinder_volume_closed_forms():
     a = 0.01
     # a cylinder through the centre of a sphere on its axis: a cylinder of
