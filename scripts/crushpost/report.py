@@ -410,7 +410,6 @@ def make_report(run_dir, out_dir=None, opt=None, say=None):
     _breakage_map(rep, ctx)
     _spheres(rep, ctx)
     _write_h5(rep, ctx)
-    _write_html(rep, ctx, reference)
     rep.settings.append(("report time", "%.1f s" % (time.time() - t0)))
     _write_html(rep, ctx, reference)
     return {"out": out_dir, "figures": [f for f, _, _ in rep.figures], "problems": rep.problems,
@@ -760,12 +759,20 @@ def _qc_norm(rep, ctx):
     steps = np.array([s["step"] for s in states])
     if rep.opt.qc_norm == "steady" and "fit" in ctx:
         out = np.full(steps.shape, ctx["fit"].a)
-    elif ctx["jack"] is not None:
-        out = qc_reference(steps, ctx["jack"]["step"], ctx["qc_series"], ctx["jack"]["phase"])
+    elif rep.opt.qc_norm == "steady":
+        rep.skip("--qc-norm steady", "no trend fit of q_c; the stresses are over q_c at the "
+                 "end of the last push")
+        out = _qc_norm_push(ctx, steps)
     else:
-        out = np.full(steps.shape, np.nan)
+        out = _qc_norm_push(ctx, steps)
     kinds = np.array([s["kind"] for s in states])
     return np.where(kinds == "initial", np.nan, out)
+
+
+def _qc_norm_push(ctx, steps):
+    if ctx["jack"] is None:
+        return np.full(steps.shape, np.nan)
+    return qc_reference(steps, ctx["jack"]["step"], ctx["qc_series"], ctx["jack"]["phase"])
 
 
 def _store_states(rep, ctx):
@@ -1075,13 +1082,14 @@ def _fig_bands(rep, ctx):
         "state; Br_band: the whole height"))
     last = len(states) - 1
     z_tip = states[last].get("z_tip")
-    bands = ["%g<r/R<%g" % (b_edges[i], b_edges[i + 1]) for i in range(b_edges.size - 1)]
+    bands = ["%.3g<r/R<%.3g" % (b_edges[i], b_edges[i + 1]) for i in range(b_edges.size - 1)]
     if z_tip is not None:
         k = int(np.clip(np.searchsorted(ctx["z_edges"], z_tip, side="right") - 1, 0,
                         ctx["z_mid"].size - 1))
         for i, b in enumerate(bands):
-            rep.head["Br_band_%g_%g" % (b_edges[i], b_edges[i + 1])] = float(br[last, i, k])
-            rep.head_notes["Br_band_%g_%g" % (b_edges[i], b_edges[i + 1])] = (
+            name = "Br_band_%.3g_%.3g" % (b_edges[i], b_edges[i + 1])
+            rep.head[name] = float(br[last, i, k])
+            rep.head_notes[name] = (
                 "Br of band %s in the layer that holds the final tip (%.4g < z < %.4g m)"
                 % (b, ctx["z_edges"][k], ctx["z_edges"][k + 1]))
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
