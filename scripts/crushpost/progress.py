@@ -82,9 +82,6 @@ class ChamberProgress:
         self.row = None
         self.deepest = 0.0
 
-    def _stamp(self):
-        return "[%s]" % format_seconds(self.clock() - self.t0)
-
     def _left(self):
         if self.t_jack0 is None or self.deepest <= 0.0 or not self.depth:
             return "time left: no estimate yet"
@@ -95,8 +92,8 @@ class ChamberProgress:
     def _phase_line(self, row, phase, cycle):
         depth, f_cone = row[2], row[3]
         what = _PHASE.get(phase, "phase %d" % phase)
-        return ("%s %s %d ended: depth %.3g mm, q_c %.3g MPa, %d breaks so far, elapsed %s, %s"
-                % (self._stamp(), what, cycle, depth * 1e3, f_cone / self.area / 1e6,
+        return ("%s %d ended: depth %.3g mm, q_c %.3g MPa, %d breaks so far, elapsed %s, %s"
+                % (what, cycle, depth * 1e3, f_cone / self.area / 1e6,
                    self.n_break, format_seconds(self.clock() - self.t0), self._left()))
 
     def poll(self):
@@ -110,8 +107,8 @@ class ChamberProgress:
                     extra = ""
                     if "porosity_core" in vals:
                         extra = " (core porosity %s)" % vals["porosity_core"][:6]
-                    out.append("%s %s%s, elapsed %s" % (self._stamp(), text, extra,
-                                                        format_seconds(self.clock() - self.t0)))
+                    out.append("%s%s, elapsed %s" % (text, extra,
+                                                     format_seconds(self.clock() - self.t0)))
         self.n_break += sum(1 for ln in self.events.lines()
                             if ln.strip() and not ln.lstrip().startswith("#"))
         for line in self.jack.lines():
@@ -126,9 +123,8 @@ class ChamberProgress:
             phase, cycle = int(row[6]), int(row[7])
             if self.t_jack0 is None:
                 self.t_jack0 = self.clock()
-                out.append("%s jacking started: target depth %.3g mm, elapsed %s"
-                           % (self._stamp(), self.depth * 1e3,
-                              format_seconds(self.clock() - self.t0)))
+                out.append("jacking started: target depth %.3g mm, elapsed %s"
+                           % (self.depth * 1e3, format_seconds(self.clock() - self.t0)))
             if self.phase is not None and phase != self.phase:
                 out.append(self._phase_line(self.row, self.phase, self.cycle))
             self.deepest = max(self.deepest, row[2])
@@ -140,8 +136,8 @@ class ChamberProgress:
         out = self.poll()
         if self.row is not None and self.phase not in (None, 3):
             out.append(self._phase_line(self.row, self.phase, self.cycle))
-        out.append("%s LIGGGHTS finished, elapsed %s, %d breaks"
-                   % (self._stamp(), format_seconds(self.clock() - self.t0), self.n_break))
+        out.append("LIGGGHTS finished, elapsed %s, %d breaks"
+                   % (format_seconds(self.clock() - self.t0), self.n_break))
         return out
 
 

@@ -579,7 +579,7 @@ def _state_info(snap, kind_hint, jack, z_ref):
 
 
 def _grid(rep, ctx, snap0):
-    s, R = ctx["summary"], ctx["R"]
+    s = ctx["summary"]
     x, rad = snap0["particles"]["x"], snap0["particles"]["radius"]
     rho = np.hypot(x[:, 0], x[:, 1])
     r_max = s.get("R_chamber_m") or float(np.max(rho + rad))
@@ -630,6 +630,9 @@ def _states(rep, ctx):
         rep.skip("Br in bands, PSD", "the up-scaling factor N is unknown (no summary.json): "
                  "give --N")
     events = ctx["events"]
+    if N and events is None:
+        rep.skip("fines in Br and the PSD", "no event log: Br in bands and the PSD count the "
+                 "grains only (right for unbreakable grains)")
     t_read = t_stress = t_rings = 0.0
     for path, hint in files:
         t = time.time()
@@ -643,7 +646,7 @@ def _states(rep, ctx):
             grid = _grid(rep, ctx, snap)
             r_edges, z_edges, sector = grid
             ctx["sector"] = sector
-            n_r, n_z = r_edges.size - 1, z_edges.size - 1
+            n_z = z_edges.size - 1
         info = _state_info(snap, hint, jack, ctx["z_ref"])
         p = snap["particles"]
         x, rad, ids = p["x"], p["radius"], p["id"]
@@ -671,9 +674,9 @@ def _states(rep, ctx):
             cell = _band_cell(rr, x[:, 2], b_edges, z_edges)
             if first is None:
                 first = {"cell": cell, "d": 2 * rad, "ids": ids, "step": info["step"]}
-            ev_sel = None
             fines = None
             if events is not None:
+                # the breaks since the first state (earlier ones are in its grains)
                 ev_sel = (events["step"] > first["step"]) & (events["step"] <= info["step"])
                 erho = np.hypot(events["x"][ev_sel], events["y"][ev_sel]) / R
                 ev_cell = _band_cell(erho, events["z"][ev_sel], b_edges, z_edges)
@@ -1070,7 +1073,7 @@ def _fig_bands(rep, ctx):
     if "Br_cells" not in ctx:
         return
     plt = _plt()
-    states, R = ctx["states"], ctx["R"]
+    states = ctx["states"]
     b_edges = ctx["band_edges"]
     br = ctx["Br_cells"]                  # (n_state, n_band, n_z)
     brb = ctx["Br_bands"]                 # (n_state, n_band)
