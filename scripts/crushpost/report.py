@@ -118,6 +118,11 @@ class ReportOptions:
 
 def _why(exc):
     msg = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+    # numpy's advice on a ragged text table is about its own API; a row
+    # whose column count changes is a truncated (or hand-edited) file
+    msg = re.sub(r"; use `usecols` to select a subset and avoid this error", "", msg)
+    if re.search(r"number of columns changed from \d+ to \d+ at row", msg):
+        msg += ": truncated while it was being written, or edited by hand?"
     return msg
 
 

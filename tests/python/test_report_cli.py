@@ -265,7 +265,7 @@ def _corrupt(run, how):
         p = run / "jack.txt"
         text = p.read_text()
         p.write_text(text[:len(text) // 2 + 7])          # cut inside a row
-        return p, "not a fix jack/pile time series"
+        return p, "not a fix jack/pile time series (the number of columns changed from 9 to "
     if how == "empty jack.txt":
         (run / "jack.txt").write_text("")
         return run / "jack.txt", "empty file"
@@ -319,6 +319,9 @@ def test_bad_input_is_one_line_naming_the_file(tmp_path, how):
     assert len(errors) == 1, res.stderr
     assert errors[0].startswith("crushpost report: error: %s: " % path), errors[0]
     assert words in errors[0], errors[0]
+    if how == "truncated jack.txt":
+        assert errors[0].endswith("truncated while it was being written, or edited by hand?)")
+        assert "usecols" not in errors[0]          # numpy's advice is not the user's
     for line in res.stderr.splitlines():
         assert line.startswith("crushpost report: "), line
     for name in STILL_MADE[how]:
