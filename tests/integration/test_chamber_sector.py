@@ -40,7 +40,6 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost.chamber import symmetry_planes  # noqa: E402
 from crushpost.meshes import cylinder_triangles, plate_triangles, write_pile_stl, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402

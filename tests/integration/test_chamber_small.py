@@ -20,7 +20,6 @@ import pytest
 
 from harness import REPO
 
-sys.path.insert(0, str(REPO / "scripts"))
 from crushpost.thermo import read_log  # noqa: E402
 
 SV, SR = 150e3, 76e3

@@ -33,7 +33,6 @@ import crush_decks as cd  # noqa: E402
 import crush_multi as cm  # noqa: E402
 import harness  # noqa: E402
 
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost.breakage import break_fines, breakage, grading_integral  # noqa: E402
 from crushpost.dump import read_crush_log, read_dump  # noqa: E402
 

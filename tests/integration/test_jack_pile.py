@@ -39,7 +39,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 from harness import REPO  # noqa: E402
 
-sys.path.insert(0, str(REPO / "scripts"))
 from crushpost.meshes import write_pile_stl  # noqa: E402
 import pile_cell  # noqa: E402
 

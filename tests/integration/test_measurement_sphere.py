@@ -28,14 +28,12 @@ has the numbers behind each choice):
 """
 
 import os
-import sys
 
 import numpy as np
 import pytest
 
 from harness import REPO, run_deck
 
-sys.path.insert(0, str(REPO / "scripts"))
 from crushpost.meshes import axis_plate_triangles, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
 from crushpost.spheres import measurement_sphere_block, read_sphere_series  # noqa: E402

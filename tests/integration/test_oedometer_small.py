@@ -50,7 +50,6 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost.oedometer import stress_path  # noqa: E402
 
 RUN_PY = harness.REPO / "examples" / "oedometer" / "run.py"
@@ -91,7 +90,7 @@ class Run:
         self.nprocs = nprocs
         cmd = [sys.executable, str(RUN_PY), "--out", str(self.out), "--np", str(nprocs),
                "--grains", grains, "--liggghts", str(harness.liggghts_bin())] + OPTIONS
-        env = harness._child_env({"PYTHONPATH": str(harness.REPO / "scripts")})
+        env = harness._child_env()
         proc = subprocess.run(cmd, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                               stderr=subprocess.STDOUT, universal_newlines=True,
                               errors="replace", timeout=RUN_TIMEOUT)

@@ -32,14 +32,12 @@ steps of 683 grains), test 2 about 20 s.
 """
 
 import re
-import sys
 
 import numpy as np
 import pytest
 
 import harness
 
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.prep import prep_time_step, read_prep_report, sample_porosities  # noqa: E402
 from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402

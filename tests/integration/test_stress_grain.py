@@ -45,7 +45,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import crush_decks as cd  # noqa: E402
 import harness  # noqa: E402
 
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost.meshes import axis_plate_triangles, plate_triangles, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
 

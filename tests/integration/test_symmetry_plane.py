@@ -39,7 +39,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import crush_decks as cd  # noqa: E402
 import harness  # noqa: E402
 
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost.chamber import symmetry_planes  # noqa: E402
 from crushpost.meshes import rectangle_triangles, write_stl  # noqa: E402
 

@@ -26,7 +26,6 @@ servo holds the cell pressure there too.
 """
 
 import importlib.util
-import sys
 
 import numpy as np
 import pytest
@@ -34,7 +33,6 @@ import pytest
 import harness
 
 EXAMPLE = harness.REPO / "examples" / "triaxial"
-sys.path.insert(0, str(harness.REPO / "scripts"))
 from crushpost import triaxial as tx  # noqa: E402
 
 SIGMA3 = 100e3

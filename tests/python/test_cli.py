@@ -4,14 +4,12 @@ import json
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from crushpost.cli import main
 
-REPO = Path(__file__).resolve().parents[2]
 
 
 def write_dump(path, snaps):
@@ -120,7 +118,7 @@ def test_python_dash_m(tmp_path):
     path = tmp_path / "qc.txt"
     h = np.linspace(0, 1, 50)
     np.savetxt(path, np.column_stack([h, 2.0 * (1 - np.exp(-3 * h))]))
-    env = dict(os.environ, PYTHONPATH=str(REPO / "scripts"))
+    env = dict(os.environ)
     res = subprocess.run([sys.executable, "-m", "crushpost", "fit-qc", str(path)],
                          capture_output=True, text=True, env=env, timeout=60)
     assert res.returncode == 0, res.stderr

@@ -6,14 +6,12 @@ import gzip
 import os
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from crushpost.cli import main
 
-REPO = Path(__file__).resolve().parents[2]
 
 DUMP = ("ITEM: TIMESTEP\n100\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff ff\n"
         "0 1\n0 1\n0 1\nITEM: ATOMS id type x y z radius\n1 1 0 0 0 0.001\n2 1 0 0 0 0.001\n")
@@ -114,7 +112,7 @@ def test_bad_file_is_one_line_naming_it(files, tmp_path, capsys, cmd, bad, words
 
 
 def test_dash_m_bad_file_no_traceback(files):
-    env = dict(os.environ, PYTHONPATH=str(REPO / "scripts"))
+    env = dict(os.environ)
     res = subprocess.run([sys.executable, "-m", "crushpost", "br", files["binary.bin"]],
                          capture_output=True, text=True, env=env, timeout=60)
     assert res.returncode == 1
@@ -124,7 +122,7 @@ def test_dash_m_bad_file_no_traceback(files):
 
 
 def test_help_lists_the_commands():
-    env = dict(os.environ, PYTHONPATH=str(REPO / "scripts"))
+    env = dict(os.environ)
     res = subprocess.run([sys.executable, "-m", "crushpost", "--help"],
                          capture_output=True, text=True, env=env, timeout=60)
     assert res.returncode == 0

@@ -25,7 +25,6 @@ from crushpost.cli import main
 from crushpost.meshes import (cone_height, cone_tip_triangles, default_shaft_rings,
                               plate_triangles, read_stl, shaft_triangles, write_pile_stl)
 
-REPO = Path(__file__).resolve().parents[2]
 R = 0.018           # SPEC pile radius (m)
 TIP_Z = 0.05
 L_SHAFT = 0.2
@@ -246,7 +245,7 @@ def test_cli_pile_bad_segments(tmp_path, capsys):
 
 
 def test_python_m_crushpost_pile(tmp_path):
-    env = dict(os.environ, PYTHONPATH=str(REPO / "scripts"))
+    env = dict(os.environ)
     res = subprocess.run([sys.executable, "-m", "crushpost", "pile", "--radius", "0.018",
                           "--shaft-length", "0.3", "--tip-z", "0.0", "--segments", "24",
                           "--out", str(tmp_path)], env=env, stdout=subprocess.PIPE,
