@@ -35,7 +35,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 from harness import REPO  # noqa: E402
 
-sys.path.insert(0, str(REPO / "scripts"))
 import pile_cell  # noqa: E402
 from crushpost import paraview_state  # noqa: E402
 from crushpost.dump import read_crush_log  # noqa: E402
@@ -160,7 +159,7 @@ def run(tmp_path_factory):
     if harness.LOG_NAME != "log.liggghts":
         (wd / "log.liggghts").write_text(res.log)
     out = wd / "report"
-    env = dict(os.environ, PYTHONPATH=str(REPO / "scripts"))
+    env = dict(os.environ)
     rep = subprocess.run([sys.executable, "-m", "crushpost", "report", str(wd), "--out", str(out),
                           "--ring-height", "0.01", "--ring-width", "0.006", "--min-grains", "10",
                           "--history-r", "2", "3"],

@@ -20,7 +20,6 @@ h5py = pytest.importorskip("h5py")
 from crushpost.cli import main  # noqa: E402
 from crushpost.trend import qc_trend  # noqa: E402
 
-REPO = Path(__file__).resolve().parent.parent.parent
 R = 0.018
 R_CH, H_CH = 0.06, 0.1
 Z_REF = 0.095
@@ -255,7 +254,7 @@ def test_reference_csv(run, tmp_path):
 # ---------------------------------------------------------------------------
 
 def _run_cli(argv):
-    env = dict(os.environ, PYTHONPATH=str(REPO / "scripts"))
+    env = dict(os.environ)
     return subprocess.run([sys.executable, "-m", "crushpost", "report"] + argv,
                           capture_output=True, text=True, env=env, timeout=300)
 
