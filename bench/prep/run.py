@@ -35,6 +35,8 @@ import subprocess
 import sys
 import time
 
+import numpy as np
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "scripts"))
@@ -60,12 +62,20 @@ def run_case(name, spec, work, np_, liggghts, force):
             cmd += ["--liggghts", liggghts]
         t0 = time.time()
         rc = subprocess.call(cmd, stdout=subprocess.DEVNULL)
+        # wall times on a shared machine depend on the other jobs: keep the load
+        with open(os.path.join(out, "machine_load.json"), "w") as f:
+            json.dump({"cpus": os.cpu_count(), "load_average_1_5_15": os.getloadavg()}, f)
         if rc != 0:
             return {"case": name, "spec": spec, "failed": True, "exit_code": rc,
                     "wall_time_s": time.time() - t0, "log": os.path.join(out, "log.liggghts")}
     with open(summary) as f:
         s = json.load(f)
-    return condense(name, spec, s)
+    r = condense(name, spec, s)
+    load = os.path.join(out, "machine_load.json")
+    if os.path.exists(load):
+        with open(load) as f:
+            r["machine_at_end"] = json.load(f)
+    return r
 
 
 def condense(name, spec, s):
@@ -85,6 +95,9 @@ def condense(name, spec, s):
             "sr_rel_error": rel(done["sr"] / 1e3, TARGETS["sr_kPa"]),
             "ring_stats_kPa": {k: p[k] for k in ("sigma_z_kPa", "sigma_r_kPa", "sigma_theta_kPa")},
             "ring_stats_interior_kPa": p["rings"].get("interior"),
+            # equilibrium check: the volume-weighted mean of the ring stresses is
+            # the sample's average stress, which the boundary forces fix
+            "ring_volume_weighted_kPa": volume_weighted(p["rings"]),
             "rings": {"n_r": p["rings"]["n_r"], "n_z": p["rings"]["n_z"],
                       "wall_contacts": p["rings"]["wall_contacts"]},
             "coordination": p["coordination"],
@@ -93,6 +106,18 @@ def condense(name, spec, s):
                          "coordination": exp.get("coordination")},
             "compressed": {"K0": comp.get("K0"), "porosity_core": comp.get("porosity_core")},
         })
+    return out
+
+
+def volume_weighted(rings):
+    """Volume-weighted means of the ring stresses [kPa] (ring volumes from the
+    edges; a sector's rings all have the same angular fraction)."""
+    r, z = np.asarray(rings["r_edges_m"]), np.asarray(rings["z_edges_m"])
+    vol = np.outer(np.diff(r ** 2), np.diff(z))
+    out = {k: float(np.sum(vol * np.asarray(rings[k])) / vol.sum())
+           for k in ("sigma_z_kPa", "sigma_r_kPa", "sigma_theta_kPa")}
+    # the lateral wall fixes the mean of the two horizontal components
+    out["horizontal_mean_kPa"] = 0.5 * (out["sigma_r_kPa"] + out["sigma_theta_kPa"])
     return out
 
 

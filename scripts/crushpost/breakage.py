@@ -181,21 +181,31 @@ def _fractal_P(u, U, k):
     return np.where(u <= 0.0, 0.0, np.where(u >= U, full, inside))
 
 
-def _particle_bins(d, m, d_min, d_max, n):
-    """Unnormalised bin integrals of point masses m at diameters d:
-    J_b = (mass finer than the bin's lower edge) h + sum over the bin of
-    m (u_hi - u_p), with two np.bincount sums."""
+def cell_particle_bins(cell, d, m, d_min, d_max, n_cells, n):
+    """(n_cells, n) unnormalised bin integrals of point masses m at diameters
+    d, summed per cell (``cell``: each particle's cell index), and the
+    particle mass of each cell: J_b = (mass finer than the bin's lower edge) h
+    + sum over the bin of m (u_hi - u_p), with np.bincount sums keyed by
+    (cell, bin)."""
     h = math.log(d_max / d_min) / n
     below = d <= d_min
     inside = (~below) & (d < d_max)
     u = np.log(d[inside] / d_min)
     b = np.minimum((u / h).astype(np.int64), n - 1)
     t = np.clip((b + 1) * h - u, 0.0, h)
-    mi = m[inside]
-    mass = np.bincount(b, weights=mi, minlength=n)
-    term = np.bincount(b, weights=mi * t, minlength=n)
-    finer = m[below].sum() + np.concatenate([[0.0], np.cumsum(mass)[:-1]])
-    return finer * h + term
+    key = cell[inside] * n + b
+    mass = np.bincount(key, weights=m[inside], minlength=n_cells * n).reshape(n_cells, n)
+    term = np.bincount(key, weights=m[inside] * t, minlength=n_cells * n).reshape(n_cells, n)
+    finer = np.bincount(cell[below], weights=m[below], minlength=n_cells)[:, None] + \
+        np.cumsum(mass, axis=1) - mass
+    total = np.bincount(cell, weights=m, minlength=n_cells)
+    return finer * h + term, total
+
+
+def _particle_bins(d, m, d_min, d_max, n):
+    """Unnormalised bin integrals of point masses m at diameters d (one cell)."""
+    d, m = np.asarray(d, dtype=float), np.asarray(m, dtype=float)
+    return cell_particle_bins(np.zeros(d.size, dtype=np.int64), d, m, d_min, d_max, 1, n)[0][0]
 
 
 def _fractal_bins(m, d_f, d_min, d_max, w, n, chunk=4096):

@@ -1,17 +1,15 @@
 """Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres,report} ...``."""
 
 import argparse
-import gzip
 import json
 import sys
-import warnings
-import zlib
 
 import numpy as np
 
 from .breakage import W_FRACTAL, break_fines, breakage, sphere_mass
 from .chamber import hole_gap, hole_radius, smallest_fragment_diameter
 from .dump import read_crush_log, read_dump
+from .inputfile import InputFileError, read_checked
 from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
@@ -23,37 +21,9 @@ D_MIN_REAL = 0.01e-3
 D_MAX_REAL = 0.27e-3
 
 
-class InputFileError(ValueError):
-    """A file given on the command line is missing, empty or not what it should be."""
-
-
 def _read(path, reader, what):
-    """``reader(path)``, with any failure to read the file turned into one
-    InputFileError that names it and says what is wrong (``what``: what the
-    file should be, e.g. "a LAMMPS text dump")."""
-    try:
-        with warnings.catch_warnings():
-            # numpy warns on an empty file; the callers say so themselves
-            warnings.simplefilter("ignore")
-            return reader(path)
-    except FileNotFoundError:
-        raise InputFileError("%s: no such file" % path) from None
-    except IsADirectoryError:
-        raise InputFileError("%s: is a folder, not %s" % (path, what)) from None
-    except PermissionError:
-        raise InputFileError("%s: permission denied" % path) from None
-    except UnicodeDecodeError as exc:
-        raise InputFileError("%s: not a text file (byte %d is not UTF-8); expected %s"
-                             % (path, exc.start, what)) from None
-    except gzip.BadGzipFile:
-        raise InputFileError("%s: not a gzip file (the name ends in .gz)" % path) from None
-    except (EOFError, zlib.error) as exc:
-        raise InputFileError("%s: truncated or corrupt gzip file (%s)" % (path, exc)) from None
-    except (OSError, ValueError, IndexError, KeyError) as exc:
-        msg = str(exc).strip() or type(exc).__name__
-        if msg.startswith(str(path)):
-            raise InputFileError(msg) from None
-        raise InputFileError("%s: not %s (%s)" % (path, what, msg)) from None
+    """``reader(path)`` with every failure one InputFileError naming the file."""
+    return read_checked(path, what, lambda: reader(path))
 
 
 def _is_empty(path):

@@ -14,8 +14,8 @@ import math
 import numpy as np
 from scipy import sparse
 
-from .breakage import (N_BINS, W_FRACTAL, _fractal_P, break_fines, limit_bin_integrals,
-                       sphere_mass)
+from .breakage import (N_BINS, W_FRACTAL, _fractal_P, break_fines, cell_particle_bins,
+                       limit_bin_integrals, sphere_mass)
 from .rotation import major_axis_angle
 from .trend import qc_trend
 
@@ -137,25 +137,6 @@ def event_density(h_over_R, r_over_R, h_edges, r_edges, sector=360.0):
     return count / vol, count.astype(np.int64)
 
 
-def _cell_particle_bins(cell, d, m, d_min, d_max, n_cells, n):
-    """(n_cells, n) unnormalised bin integrals of point masses in each cell,
-    and the particle mass of each cell (as crushpost.breakage's
-    single-grading sums, with the cell index as a second key)."""
-    h = math.log(d_max / d_min) / n
-    below = d <= d_min
-    inside = (~below) & (d < d_max)
-    u = np.log(d[inside] / d_min)
-    b = np.minimum((u / h).astype(np.int64), n - 1)
-    t = np.clip((b + 1) * h - u, 0.0, h)
-    key = cell[inside] * n + b
-    mass = np.bincount(key, weights=m[inside], minlength=n_cells * n).reshape(n_cells, n)
-    term = np.bincount(key, weights=m[inside] * t, minlength=n_cells * n).reshape(n_cells, n)
-    finer = np.bincount(cell[below], weights=m[below], minlength=n_cells)[:, None] + \
-        np.cumsum(mass, axis=1) - mass
-    total = np.bincount(cell, weights=m, minlength=n_cells)
-    return finer * h + term, total
-
-
 def _cell_fractal_bins(cell, m, d_f, d_min, d_max, w, n_cells, n, chunk=4096):
     """(n_cells, n) bin integrals of masses m spread like the limit grading
     over [d_min, d_f], summed per cell (a sparse product per chunk)."""
@@ -198,10 +179,10 @@ def cell_breakage(cell, d, cell0, d0, n_cells, d_min, d_max, ev_cell=None, ev_pa
     if not 0 < d_min < d_max:
         raise ValueError("need 0 < d_min < d_max")
     sel = (cell >= 0) & (cell < n_cells)
-    J, M = _cell_particle_bins(cell[sel], d[sel], sphere_mass(d[sel], density), d_min, d_max,
+    J, M = cell_particle_bins(cell[sel], d[sel], sphere_mass(d[sel], density), d_min, d_max,
                                n_cells, n)
     sel0 = (cell0 >= 0) & (cell0 < n_cells)
-    J0, M0 = _cell_particle_bins(cell0[sel0], d0[sel0], sphere_mass(d0[sel0], density), d_min,
+    J0, M0 = cell_particle_bins(cell0[sel0], d0[sel0], sphere_mass(d0[sel0], density), d_min,
                                  d_max, n_cells, n)
     if ev_cell is not None and len(ev_cell):
         ev_cell = np.asarray(ev_cell, dtype=np.int64)
@@ -220,7 +201,7 @@ def cell_breakage(cell, d, cell0, d0, n_cells, d_min, d_max, ev_cell=None, ev_pa
                 drop1 = 2.0 * R1_RATIO * r < d_frag_min
                 drop2 = 2.0 * R2_RATIO * r < d_frag_min
                 dc = np.concatenate([ev_cell[drop1], ev_cell[drop2]])
-                Jd, Md = _cell_particle_bins(dc, fines.dropped_d, fines.dropped_m, d_min, d_max,
+                Jd, Md = cell_particle_bins(dc, fines.dropped_d, fines.dropped_m, d_min, d_max,
                                              n_cells, n)
                 J, M = J + Jd, M + Md
     with np.errstate(invalid="ignore", divide="ignore"):

@@ -36,6 +36,7 @@ import numpy as np
 
 from .breakage import W_FRACTAL, break_fines, fractal_psd, psd_curve, sphere_mass
 from .dump import read_crush_log
+from .inputfile import InputFileError, read_checked, reason
 from .fields import (binned_mean, cell_breakage, event_density, interp_columns, interp_radius,
                      qc_reference, qc_trend_band, radial_increments, stress_quantities)
 from .pile import PHASE_PAUSE, PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at
@@ -71,7 +72,7 @@ HEADLINE_NAMES = {
 }
 
 
-class ReportInputError(ValueError):
+class ReportInputError(InputFileError):
     """An input of the report is missing, truncated or not what it should
     be; the message is one line that names the file."""
 
@@ -116,40 +117,10 @@ class ReportOptions:
 # reading, each failure one line naming the file
 # ---------------------------------------------------------------------------
 
-def _why(exc):
-    msg = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
-    # numpy's advice on a ragged text table is about its own API; a row
-    # whose column count changes is a truncated (or hand-edited) file
-    msg = re.sub(r"; use `usecols` to select a subset and avoid this error", "", msg)
-    if re.search(r"number of columns changed from \d+ to \d+ at row", msg):
-        msg += ": truncated while it was being written, or edited by hand?"
-    return msg
-
-
-def _strip_path(msg, path):
-    p = str(path)
-    return msg[len(p):].lstrip(": ") if msg.startswith(p) else msg
-
-
 def _guard(path, what, reader):
     """``reader()`` with every read failure turned into ReportInputError
     naming ``path`` (``what``: what the file should be)."""
-    try:
-        return reader()
-    except ReportInputError:
-        raise
-    except FileNotFoundError:
-        raise ReportInputError("%s: no such file" % path) from None
-    except IsADirectoryError:
-        raise ReportInputError("%s: is a folder, not %s" % (path, what)) from None
-    except PermissionError:
-        raise ReportInputError("%s: permission denied" % path) from None
-    except UnicodeDecodeError as exc:
-        raise ReportInputError("%s: not a text file (byte %d is not UTF-8); expected %s"
-                               % (path, exc.start, what)) from None
-    except (OSError, ValueError, KeyError, IndexError, TypeError) as exc:
-        raise ReportInputError("%s: not %s (%s)" % (path, what,
-                                                    _strip_path(_why(exc), path))) from None
+    return read_checked(path, what, reader, error=ReportInputError)
 
 
 def read_summary(path):
@@ -659,7 +630,7 @@ def _states(rep, ctx):
         try:
             sig = snapshot_stress_fast(snap)
         except ValueError as exc:
-            rep.error("%s: %s" % (path, _strip_path(_why(exc), path)))
+            rep.error("%s: %s" % (path, reason(exc, path)))
             continue
         t_stress += time.time() - t
         t = time.time()
