@@ -14,7 +14,7 @@ Pure functions on numpy arrays; see each module for units and conventions.
 * :mod:`crushpost.spheres` - measurement-sphere deck blocks and their output.
 * :mod:`crushpost.prep` - the prepared sample: core porosity, ring statistics
   of the stress, the decks' preparation report (docs/preparation.md).
-* :mod:`crushpost.cli` - ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres}``.
+* :mod:`crushpost.cli` - ``crushpost {br,fit-qc,thermo,pile,spheres,report}`` (also ``python -m crushpost``).
 """
 
 from .breakage import (N_BINS, W_FRACTAL, Breakage, BreakFines, bin_integrals,

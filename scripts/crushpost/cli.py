@@ -1,4 +1,4 @@
-"""Command line of crushpost: ``python3 -m crushpost {br,fit-qc,thermo,pile,spheres,report} ...``."""
+"""Command line of crushpost: ``crushpost {br,fit-qc,thermo,pile,spheres,report} ...``."""
 
 import argparse
 import json

@@ -1,6 +1,6 @@
 """The analyses of a chamber run from one command (issue 10):
 
-    python3 -m crushpost report RUN_DIR [--out DIR] [--reference FILE]
+    crushpost report RUN_DIR [--out DIR] [--reference FILE]
 
 reads what examples/cpt_demo/run.py (or a deck like it) leaves in RUN_DIR:
 jack.txt (fix jack/pile), breakage_events.txt (fix crush/particle),
@@ -1341,7 +1341,7 @@ td.note{font-size:12px;color:#444}li.error{color:#a00}img{max-width:100%%}
 figure{margin:1em 0;border-top:1px solid #ddd}figcaption{font-size:12px;color:#333}</style>
 </head><body>
 <h1>Chamber run report</h1>
-<p>Made by <code>python3 -m crushpost report</code>; the numbers behind every figure are in
+<p>Made by <code>crushpost report</code>; the numbers behind every figure are in
 <a href="fields.h5">fields.h5</a> (layout: docs/report.md).</p>
 <h2>Settings</h2><table>%(settings)s</table>
 <h2>Headline numbers</h2>
