@@ -1003,6 +1003,16 @@ void FixCrushParticle::restart(char *buf)
     J_fines_.assign(list + off + kBrBins, list + off + 2 * kBrBins);
   }
   maxtag_ever_ = (int)list[6];
+  // strengths of fragments made after the restart, and the fragments'
+  // orientations, are drawn from the seed: another seed forks the run
+  if (list[7] != 0.0 && (uint64_t)list[7] != seed_) {
+    char msg[256];
+    snprintf(msg, sizeof(msg),
+             "fix crush/particle: 'seed' %llu differs from the seed %llu in the restart file; give "
+             "the same 'seed' to continue the run (a new seed: start from a data file)",
+             (unsigned long long)seed_, (unsigned long long)list[7]);
+    error->all(FLERR, msg);
+  }
   // LIGGGHTS 3.8 restarts its clock at 0: the offset is set at the next setup
   restart_time_ = list[8];
   restart_time_pending_ = true;

@@ -30,8 +30,7 @@ b. restart at another rank count: the periodic scene at 1 rank writes restart
    until then, the strength and generation of every initial grain and of
    every fragment of an event both runs share in the final dumps, and the tag
    bookkeeping of the final dump against all events since step 0.
-   A restart deck with another seed should be an error (xfail: accepted
-   silently today).
+   A restart deck with another seed is an error naming 'seed'.
 
 The restart decks follow docs/fix_crush_particle.md: the same header without
 units/atom_style/boundary, `read_restart` instead of `read_data`, the same
@@ -370,17 +369,10 @@ def test_restart_other_rank_count_continues(tmp_path_factory, nprocs):
         res.events = own
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "fix crush/particle writes its seed to the restart file (global record, "
-    "entry 7) but restart() does not compare it with the re-defined fix's seed: "
-    "a restart deck with another seed runs on silently, and the fragments made "
-    "after the restart get strengths from the new seed (in the 2-rank restart "
-    "of the periodic scene with seed 15485867 the events after the restart "
-    "part from the uninterrupted run's at the 6th)"))
 def test_restart_with_another_seed_is_an_error(tmp_path_factory):
     """Strengths are keyed by the seed: continuing with another one mixes two
-    draws in one run.  Like the Br settings, a changed seed should be an
-    error naming 'seed'."""
+    draws in one run.  Like the Br settings, a changed seed is an error
+    naming 'seed' (accepted silently before the check in restart())."""
     src = _run(tmp_path_factory, "periodic", 1)
     workdir = tmp_path_factory.mktemp("restart_other_seed")
     scene = cm.compression_scene(workdir, **SCENES["periodic"])
