@@ -77,6 +77,12 @@ CASES["cand_W8_s2024_eps40"] = _triax(8, 2024, "--eps-a-max", "0.4", cell="perio
 for s in (2024, 2025):
     CASES["oed_crush_s%d" % s] = {"driver": "oedometer",
                                   "args": ["--packing-seed", str(s)]}
+# the oedometer integration test's cell (tests/integration/test_oedometer_small.py):
+# R 3.5 d50, H 6 d50, core porosity 0.40, to 5 MPa at 1.25 m/s, 1 rank
+for s in (2024, 2025, 2026, 2027, 2028):
+    CASES["oedsmall_crush_s%d" % s] = {"driver": "oedometer", "args": [
+        "--packing-seed", str(s), "--R-d50", "3.5", "--H-d50", "6", "--n-target", "0.40",
+        "--sv-max", "5e6", "--v-load", "1.25", "--thermo-every", "250", "--dump-every", "0"]}
 CASES["oed_unb_s2024"] = {"driver": "oedometer",
                           "args": ["--packing-seed", "2024", "--grains", "unbreakable"]}
 
@@ -170,11 +176,13 @@ def table():
         s = r.get("summary", {})
         prep = s.get("prep", {})
         if r["driver"] != "triaxial":
-            rows.append("%-28s n0 %5s  n_core %6s  n_all %6s  Z %5s  e0 %.3f e_min %.3f breaks %s Br %.3f wall %6.0f s"
+            rows.append("%-28s n0 %5s  n_core %6s  n_all %6s  Z %5s  e0 %.3f e_min %.3f breaks %s Br %.3f "
+                        "onset(1%%) %.2f MPa first %.2f MPa  wall %6.0f s"
                         % (r["case"], s.get("n_particles_initial"), _f(prep.get("porosity_core")),
                            _f(prep.get("porosity_all")), _f(prep.get("coordination"), 2),
                            s.get("e_start", np.nan), s.get("e_min", np.nan), s.get("n_break_events"),
-                           s.get("Br_final", np.nan), r["wall_time_s"]))
+                           s.get("Br_final", np.nan), s.get("sigma_v_crush_onset_MPa", np.nan),
+                           s.get("sigma_v_first_break_MPa", np.nan), r["wall_time_s"]))
             continue
         rows.append("%-28s n0 %5s  n_core %6s  n_all %6s  Z %5s  eta_pk %5.3f (%4.1f%%) phi_pk %4.1f  "
                     "eta_cs %5.3f phi_cs %4.1f  ev_end %6.3f  wall %6.0f s"
