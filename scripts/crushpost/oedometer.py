@@ -48,12 +48,14 @@ def stress_path(log_path):
 
 def crushing_onset(path, n0, fraction=0.01):
     """Vertical stress at which crushing begins, on the loading branch
-    (phase 0): the first sigma_v at which the breakage events reach
-    `fraction` of the initial grains n0 (the yield by crushing of the
-    e - log sigma_v curve), and the sigma_v of the first event. NaN when
-    loading never gets there. Returns (sv_onset, sv_first) in Pa."""
+    (phase 0): the largest sigma_v the sample has carried by the time the
+    breakage events reach `fraction` of the initial grains n0, and by the
+    time of the first event. (The largest so far, not the current value: a
+    break relaxes the stress for a moment, and the first contacts with the
+    platen are dynamic.) NaN when loading never gets there. Returns
+    (sv_onset, sv_first) in Pa."""
     load = np.asarray(path["phase"]) == 0
-    sv = np.asarray(path["sv"], float)[load]
+    sv = np.maximum.accumulate(np.asarray(path["sv"], float)[load])
     nb = np.asarray(path["n_break"], float)[load]
     need = max(1.0, fraction * float(n0))
     k = np.flatnonzero(nb >= need)

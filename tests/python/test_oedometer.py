@@ -39,3 +39,13 @@ def test_onset_needs_at_least_one_event():
     assert onset == 2e6
     with pytest.raises(KeyError):
         oedometer.crushing_onset({"sv": [1.0]}, 10)
+
+
+def test_onset_is_the_largest_stress_carried_so_far():
+    # the stress dips when grains break: the onset is the largest sigma_v
+    # carried up to the event that completes 1 %, never below the first break's
+    sv = [0.5e6, 0.3e6, 0.8e6, 0.6e6, 1.5e6]
+    nb = [1, 2, 3, 5, 6]
+    onset, first = oedometer.crushing_onset(_path(sv, nb), 500)
+    assert first == 0.5e6
+    assert onset == 0.8e6
