@@ -150,6 +150,43 @@ def plot_curves(res, names, img, fname, title):
     return path
 
 
+def plot_oedometer(res, img):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    cases = [(n, r) for n, r in res.items() if n.startswith("oed_")]
+    if not cases:
+        return None
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    for i, (n, r) in enumerate(cases):
+        p = r["path"]
+        sv = np.array(p["sv"]) / 1e6
+        e = np.array(p["e_void"])
+        ph = np.array(p["phase"])
+        ok = sv > 0.05
+        c = "C%d" % i
+        a1.semilogx(sv[ok & (ph == 0)], e[ok & (ph == 0)], "-", color=c, label=n + " loading")
+        a1.semilogx(sv[ok & (ph == 1)], e[ok & (ph == 1)], "--", color=c, lw=0.8)
+        a2.semilogx(sv[ok & (ph == 0)], 100 * np.array(p["n_break"])[ok & (ph == 0)] / p["Atoms"][0],
+                    "-", color=c, label=n)
+    a1.axhline(0.87, color="0.6", lw=0.8, ls=":")
+    a1.axhline(0.53, color="0.6", lw=0.8, ls=":")
+    a1.text(0.06, 0.855, "NE34 e_max 0.87 (SPEC 3)", fontsize=7, color="0.4")
+    a1.text(0.06, 0.535, "NE34 e_min 0.53", fontsize=7, color="0.4")
+    a1.set_xlabel("vertical stress σv (MPa)")
+    a1.set_ylabel("void ratio e (whole cell) (-)")
+    a1.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=7)
+    a2.set_xlabel("vertical stress σv (MPa)")
+    a2.set_ylabel("grains broken (% of the initial grains)")
+    a2.grid(True, which="both", alpha=0.3)
+    a2.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(img, "calib_oedometer.png")
+    fig.savefig(path, dpi=110)
+    return path
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--img", default=os.path.join(REPO, "docs", "img"))
@@ -160,6 +197,13 @@ def main(argv=None):
         print(size_table(res))
         return 0
     print(plot_size(res, a.img))
+    print(plot_curves(res, [n for n in res if n.startswith("per_W8_")], a.img,
+                      "calib_triaxial_periodic_W8.png",
+                      "periodic cell, 8 d50, unbreakable, three packing seeds"))
+    print(plot_curves(res, [n for n in res if n.startswith("cand_W8_s2024")] + ["per_W8_s2024"],
+                      a.img, "calib_candidates.png",
+                      "periodic 8 d50, seed 2024: settings from consolidation on"))
+    print(plot_oedometer(res, a.img))
     return 0
 
 

@@ -1,10 +1,16 @@
 #!/usr/bin/env python3
-"""Drained triaxial compression scene: build the initial packing and the six
-plates, run LIGGGHTS, post-process.
+"""Drained triaxial compression scene: build the initial packing (and, for the
+cell with rigid plates, the six plates), run LIGGGHTS, post-process.
 
     examples/triaxial/run.py --out results/triaxial [--np 2] [--grains unbreakable] [--small]
+    examples/triaxial/run.py --out results/triaxial_walls --cell walls
 
-Writes into --out: grains.data, plate_*.stl, log.liggghts, breakage_events.txt
+The default cell is periodic (in.triaxial_periodic: no walls, the whole
+specimen at the density of the preparation); --cell walls puts the specimen
+between six rigid frictionless plates (in.triaxial). docs/calibration.md
+gives the study behind the choice.
+
+Writes into --out: grains.data, plate_*.stl (walls), log.liggghts, breakage_events.txt
 (crushable grains), triaxial.h5 (shearing path and summary),
 q_p_eps_a.png (q/p' and eps_v against eps_a), stress_path.png (q - p'),
 summary.json. All options are listed by --help; docs/triaxial.md explains the
@@ -170,7 +176,7 @@ def parse_args(argv=None):
     p.add_argument("--out", default=os.path.join(REPO, "results", "triaxial"))
     p.add_argument("--np", type=int, default=2, help="MPI ranks")
     p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
-    p.add_argument("--cell", default="walls", choices=["walls", "periodic"],
+    p.add_argument("--cell", default="periodic", choices=["periodic", "walls"],
                    help="specimen between six rigid frictionless plates (in.triaxial), or a "
                    "periodic cell whose stresses are the grains' own (in.triaxial_periodic)")
     p.add_argument("--N", type=float, default=39.0, help="particle up-scaling factor")

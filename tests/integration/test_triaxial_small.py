@@ -45,9 +45,9 @@ SETTLE = 0.005          # axial strain after which the servo is judged
 N_TARGET = 0.40
 # periodic cell of the test, and the band of its critical-state stress ratio
 # from the size study (docs/calibration.md, bench/calibration/results)
-PERIODIC_W = 6
+PERIODIC_W = 8
 ETA_CS_BAND = (1.0, 2.0)   # placeholder until the study gives it
-COMMON = ["--small", "--n-target", str(N_TARGET), "--rate", "5", "--thermo-every", "200"]
+COMMON = ["--cell", "walls", "--small", "--n-target", str(N_TARGET), "--rate", "5", "--thermo-every", "200"]
 
 
 def _run_module():
