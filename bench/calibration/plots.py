@@ -154,7 +154,7 @@ def plot_oedometer(res, img):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    cases = [(n, r) for n, r in res.items() if n.startswith("oed_")]
+    cases = [(n, r) for n, r in res.items() if n.startswith("oed")]
     if not cases:
         return None
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
