@@ -200,6 +200,9 @@ def main(argv=None):
     print(plot_curves(res, [n for n in res if n.startswith("per_W8_")], a.img,
                       "calib_triaxial_periodic_W8.png",
                       "periodic cell, 8 d50, unbreakable, three packing seeds"))
+    print(plot_curves(res, [n for n in res if n.startswith("per_W12_")], a.img,
+                      "calib_triaxial_periodic_W12.png",
+                      "periodic cell, 12 d50 (the default size), unbreakable, three packing seeds"))
     print(plot_curves(res, [n for n in res if n.startswith("cand_W8_s2024")] + ["per_W8_s2024"],
                       a.img, "calib_candidates.png",
                       "periodic 8 d50, seed 2024: settings from consolidation on"))

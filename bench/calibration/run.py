@@ -72,6 +72,9 @@ CASES["cand_W8_s2024_D0.2"] = _triax(8, 2024, "--D-loc", "0.2", cell="periodic")
 CASES["cand_W8_s2024_rotation"] = _triax(8, 2024, "--rotation", cell="periodic")
 CASES["cand_W8_s2024_crushable"] = _triax(8, 2024, grains="crushable_ne34", cell="periodic")
 CASES["cand_W8_s2024_eps40"] = _triax(8, 2024, "--eps-a-max", "0.4", cell="periodic")
+# the default triaxial run (examples/triaxial/run.py with no size option:
+# periodic, crushable, 12 d50, seed 2024)
+CASES["default_W12_s2024_crushable"] = _triax(12, 2024, grains="crushable_ne34", cell="periodic")
 
 # -- oedometer (default cell R 5 d50, H 8 d50, to 30 MPa) --
 for s in (2024, 2025):
