@@ -50,7 +50,7 @@ END_SPAN = 1.8
 # specimen (W, H) in d50. The default is the smallest size whose peak and
 # critical-state stress ratios lie within the packing-seed scatter of the
 # largest size studied (docs/calibration.md: periodic cells of 6-12 d50; the
-# critical state agrees within 1 degree from 8 d50 on, the peak falls with
+# critical state agrees within 1.2 degrees from 8 d50 on, the peak falls with
 # size up to 12 d50).
 SIZES = {
     "default": (12.0, 12.0),
