@@ -46,7 +46,7 @@ for W in (8, 12, 16):
     for s in (2024, 2025, 2026):
         CASES["walls_W%d_s%d" % (W, s)] = _triax(W, s)
 # -- size study, periodic cell (no walls) --
-for W in (6, 8, 10, 12):
+for W in (6, 8, 10, 12, 16):
     for s in (2024, 2025, 2026, 2027, 2028):
         CASES["per_W%d_s%d" % (W, s)] = _triax(W, s, cell="periodic")
 
