@@ -51,7 +51,7 @@ END_SPAN = 1.8
 # stress ratio lies within the packing-seed scatter of the largest size
 # studied (docs/calibration.md: periodic cells of 6-16 d50; the peak falls
 # with size up to 12 d50 and stays at 16 d50; the ratio at 25 % axial strain
-# varies by up to 1.7 degrees between sizes from 8 d50 on, without a trend).
+# varies by up to 1.6 degrees between sizes from 8 d50 on, without a trend).
 SIZES = {
     "default": (12.0, 12.0),
     "small": (6.0, 6.0),
