@@ -101,7 +101,7 @@ def plot_size(res, img):
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.8), sharey=True)
     for ax, key, title in ((axes[0], "peak", "peak (smoothed over 1 % ε_a)"),
-                           (axes[1], "cs", "critical state (last 5 % of ε_a)")):
+                           (axes[1], "cs", "η over 20-25 % of ε_a (η_cs; still dilating)")):
         for cell, c, mk, label in (("walls", "C1", "s", "rigid plates"), ("per", "C0", "o", "periodic")):
             g = size_groups(res, cell)
             for W, rs in g.items():
