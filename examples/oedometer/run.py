@@ -91,6 +91,10 @@ def postprocess(args, out, wall, n0):
         "e_end": float(stress["e_void"][-1]),
         "sigma_v_max_MPa": float(stress["sv"][load].max() / 1e6),
         "n_break_events": int(stress["n_break"][-1]), "Br_final": float(stress["Br"][-1]),
+        # crushing begins: sigma_v where 1 % of the initial grains have broken
+        # (and that of the first break), crushpost.oedometer.crushing_onset
+        "sigma_v_crush_onset_MPa": oedometer.crushing_onset(stress, n0)[0] / 1e6,
+        "sigma_v_first_break_MPa": oedometer.crushing_onset(stress, n0)[1] / 1e6,
         "fines_mass": float(stress["fines"][-1]), "wall_time_s": wall, "mpi_ranks": args.np,
         "prep": prep_report(args, out),
     }

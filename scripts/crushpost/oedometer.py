@@ -46,6 +46,24 @@ def stress_path(log_path):
     return path
 
 
+def crushing_onset(path, n0, fraction=0.01):
+    """Vertical stress at which crushing begins, on the loading branch
+    (phase 0): the largest sigma_v the sample has carried by the time the
+    breakage events reach `fraction` of the initial grains n0, and by the
+    time of the first event. (The largest so far, not the current value: a
+    break relaxes the stress for a moment, and the first contacts with the
+    platen are dynamic.) NaN when loading never gets there. Returns
+    (sv_onset, sv_first) in Pa."""
+    load = np.asarray(path["phase"]) == 0
+    sv = np.maximum.accumulate(np.asarray(path["sv"], float)[load])
+    nb = np.asarray(path["n_break"], float)[load]
+    need = max(1.0, fraction * float(n0))
+    k = np.flatnonzero(nb >= need)
+    k1 = np.flatnonzero(nb >= 1)
+    return (float(sv[k[0]]) if k.size else float("nan"),
+            float(sv[k1[0]]) if k1.size else float("nan"))
+
+
 def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None, events=None,
                   d_min=None, fines_grading="fractal", d_frag_min=0.0):
     """Grading curves (mass fraction finer than each size) of every dump.

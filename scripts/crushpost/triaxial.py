@@ -21,6 +21,12 @@ and the values at the start of shearing (index ``ref``):
   dilatancy over that window (``dilatancy_cs``, a line fitted to eps_v) tells
   whether the volume has indeed stopped changing.
 
+The periodic cell (examples/triaxial/in.triaxial_periodic) writes the same
+columns: the box faces as "plates" (``xm = xlo`` ...), each face pair's
+stress the cell's own stress component (``sxm = sxp = sigma_xx`` ...), from
+the grains' contacts (:func:`cell_stress_from_contacts` recomputes it from a
+dump of the contacts).
+
 Thermo columns used (LIGGGHTS drops the v_ prefix in the header):
 ``Step Time Atoms phase xm xp ym yp zb zt sxm sxp sym syp szb szt uxm uxp uym
 uyp uzb uzt porosity e_void n_break fines Br eps_a eps_v``.
@@ -38,7 +44,8 @@ __all__ = [
     "PLATES", "shear_path", "strains_from_positions", "triaxial_invariants",
     "friction_angle", "stress_ratio", "dilatancy_angle", "local_slope",
     "dilatancy", "peak_state", "critical_state", "path_slope", "servo_errors",
-    "analyse", "write_hdf5", "plot_all",
+    "analyse", "write_hdf5", "plot_all", "smoothed_peak", "read_local_dump",
+    "cell_stress_from_contacts",
 ]
 
 PLATES = ("xm", "xp", "ym", "yp", "zb", "zt")
@@ -221,7 +228,13 @@ def analyse(path, sigma3, cs_window=0.05, dil_window=0.02, settle=0.01):
     slope, intercept = path_slope(np.asarray(path["p"])[late], np.asarray(path["q"])[late])
     plates = {k: np.asarray(path[k])[late] for k in ("sxm", "sxp", "sym", "syp") if k in path}
     pairs = {"x": np.asarray(path["sigma_x"])[late], "y": np.asarray(path["sigma_y"])[late]}
+    try:
+        pk_s, ea_pk_s = smoothed_peak(ea, eta, 0.01)
+    except ValueError:
+        pk_s, ea_pk_s = float("nan"), float("nan")
     return {
+        "eta_peak_smooth": pk_s, "eps_a_peak_smooth": ea_pk_s,
+        "phi_peak_smooth_deg": float(friction_angle(pk_s)) if np.isfinite(pk_s) else float("nan"),
         "eps_a_final": float(ea[-1]),
         "eps_v_final": float(ev[-1]),
         "q_start": float(path["q"][0]), "p_start": float(path["p"][0]),
@@ -307,3 +320,59 @@ def plot_all(out_dir, path, res=None, title=""):
     fig.savefig(files[-1], dpi=120)
     plt.close(fig)
     return files
+
+
+def smoothed_peak(eps_a, eta, window=0.01):
+    """Peak of the running mean of eta over `window` of axial strain:
+    (largest mean, its centre strain). Only windows wholly inside the data
+    count. A single stick-slip spike of a few hundred grains cannot make
+    this peak; :func:`peak_state` takes the raw largest value."""
+    ea = np.asarray(eps_a, float)
+    eta = np.asarray(eta, float)
+    lo = np.searchsorted(ea, ea - window / 2.0, side="left")
+    hi = np.searchsorted(ea, ea + window / 2.0, side="right")
+    csum = np.concatenate([[0.0], np.cumsum(eta)])
+    ok = (ea - window / 2.0 >= ea[0]) & (ea + window / 2.0 <= ea[-1]) & (hi > lo)
+    if not np.any(ok):
+        raise ValueError("smoothed_peak: the path spans less than the window %g" % window)
+    mean = np.where(ok, (csum[hi] - csum[lo]) / np.maximum(hi - lo, 1), -np.inf)
+    i = int(np.argmax(mean))
+    return float(mean[i]), float(ea[i])
+
+
+def read_local_dump(path):
+    """One snapshot of a LIGGGHTS local dump (``dump local``): dict with
+    ``timestep``, ``box`` ((3, 2) bounds) and ``entries`` (name -> column
+    array, names as in the header)."""
+    with open(path) as fh:
+        lines = fh.read().splitlines()
+    if not lines or not lines[0].startswith("ITEM: TIMESTEP"):
+        raise ValueError("%s: not a LIGGGHTS local dump" % path)
+    step = int(lines[1].split()[0])
+    n = int(lines[3].split()[0])
+    box = np.array([[float(v) for v in lines[5 + k].split()[:2]] for k in range(3)])
+    names = lines[8].split()[2:]
+    body = lines[9:9 + n]
+    if len(body) < n:
+        raise ValueError("%s: %d of %d entries" % (path, len(body), n))
+    data = np.array(" ".join(body).split(), float).reshape(n, len(names)) if n else \
+        np.zeros((0, len(names)))
+    return {"timestep": step, "box": box,
+            "entries": {k: data[:, i] for i, k in enumerate(names)}}
+
+
+def cell_stress_from_contacts(x_i, x_j, force_on_i, box_lengths):
+    """Stress of a periodic cell from its contacts (Love-Weber),
+    ``sigma_ab = -(1/V) sum_c F_a (x_j - x_i)_b``, compression positive, with
+    the branch vector taken as the nearest periodic image (grains are much
+    smaller than half the cell) and V the cell volume. Each contact once.
+
+    x_i, x_j: (n, 3) centres (wrapped into the cell); force_on_i: (n, 3) force
+    of j on i; box_lengths: (3,). Returns (3, 3) [Pa].
+    """
+    L = np.asarray(box_lengths, float)
+    branch = np.asarray(x_j, float) - np.asarray(x_i, float)
+    branch -= L * np.round(branch / L)
+    f = np.asarray(force_on_i, float)
+    return -np.einsum("ca,cb->ab", f, branch) / float(np.prod(L))
+

@@ -220,3 +220,80 @@ def test_path_slope_unbiased_by_cell_pressure_noise():
     assert -intercept / slope == pytest.approx(SIGMA3, rel=0.02)
     naive = np.polyfit(p, q, 1)[0]
     assert naive < 2.95   # attenuated by var(q)/9 / (var(q)/9 + var(sigma_3)) ~ 0.96
+
+
+def test_smoothed_peak_ignores_a_spike():
+    # smooth bump to 1.5 at 3 % on a plateau of 1.3, and one spike of 5 later
+    ea = np.linspace(0.0, 0.2, 2001)
+    eta = 1.3 + 0.2 * np.exp(-((ea - 0.03) / 0.02) ** 2)
+    eta[1500] = 5.0
+    pk, at = tx.smoothed_peak(ea, eta, window=0.01)
+    # the running mean of a Gaussian bump of width 0.02 over +-0.005:
+    # peak 1.3 + 0.2 * mean of exp(-u^2) over |u| <= 0.25
+    u = np.linspace(-0.25, 0.25, 101)
+    assert pk == pytest.approx(1.3 + 0.2 * np.exp(-u ** 2).mean(), abs=2e-4)
+    assert at == pytest.approx(0.03, abs=5e-4)
+    assert tx.peak_state(ea, eta)[2] == 5.0          # the raw peak is the spike
+    with pytest.raises(ValueError):
+        tx.smoothed_peak(ea[:5], eta[:5], window=0.01)
+
+
+def test_analyse_reports_the_smoothed_peak():
+    r = tx.analyse(synthetic_path(), SIGMA3)
+    # tent peak 1.5 at 5 %, slopes +30 and -3 per unit strain: the best window
+    # of width w has equal values at its ends, i.e. starts x = w/11 before
+    # the apex; its mean is 1.5 - (30 x^2 + 3 (w - x)^2) / (2 w)
+    w = 0.01
+    x = w / 11
+    assert r["eta_peak_smooth"] == pytest.approx(1.5 - (30 * x ** 2 + 3 * (w - x) ** 2) / (2 * w),
+                                                 abs=2e-3)
+    assert r["eps_a_peak_smooth"] == pytest.approx(0.05 - x + w / 2, abs=1e-3)
+    assert r["phi_peak_smooth_deg"] == pytest.approx(tx.friction_angle(r["eta_peak_smooth"]))
+
+
+def _cubic_lattice(n, a, f):
+    """Simple cubic lattice of n^3 grains at spacing a in a periodic cell of
+    side n a, every grain pushed by its six neighbours with force f: the
+    contacts (each once: towards +x, +y, +z) with positions wrapped."""
+    idx = np.array(np.meshgrid(*[np.arange(n)] * 3, indexing="ij")).reshape(3, -1).T
+    xi, xj, F = [], [], []
+    for axis in range(3):
+        e = np.zeros(3)
+        e[axis] = 1.0
+        nb = (idx + e.astype(int)) % n
+        xi.append(a * idx + 0.5 * a)
+        xj.append(a * nb + 0.5 * a)
+        F.append(np.tile(-f[axis] * e, (len(idx), 1)))     # j pushes i away (towards -e)
+    return np.vstack(xi), np.vstack(xj), np.vstack(F)
+
+
+def test_cell_stress_of_a_compressed_cubic_lattice():
+    # sigma_kk = f_k / a^2 (one contact per grain and direction, branch a),
+    # no shear; contacts across the cell's faces need the nearest image
+    n, a = 4, 2e-3
+    f = np.array([3.0, 5.0, 7.0])
+    xi, xj, F = _cubic_lattice(n, a, f)
+    s = tx.cell_stress_from_contacts(xi, xj, F, [n * a] * 3)
+    np.testing.assert_allclose(np.diag(s), f / a ** 2, rtol=1e-12)
+    np.testing.assert_allclose(s - np.diag(np.diag(s)), 0.0, atol=1e-9 * f.max() / a ** 2)
+    # a shear force on the x contacts (along y) gives sigma_yx only
+    F2 = F.copy()
+    nx = n ** 3
+    F2[:nx, 1] = -2.0
+    s2 = tx.cell_stress_from_contacts(xi, xj, F2, [n * a] * 3)
+    assert s2[1, 0] == pytest.approx(2.0 / a ** 2, rel=1e-12)
+    assert s2[0, 1] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_read_local_dump(tmp_path):
+    text = ("ITEM: TIMESTEP\n120\nITEM: NUMBER OF ENTRIES\n2\n"
+            "ITEM: BOX BOUNDS pp pp pp\n-1 1\n-2 2\n0 3\n"
+            "ITEM: ENTRIES c_a[1] c_a[2]\n1 2\n3 4.5\n")
+    (tmp_path / "c.txt").write_text(text)
+    d = tx.read_local_dump(str(tmp_path / "c.txt"))
+    assert d["timestep"] == 120
+    np.testing.assert_array_equal(d["box"], [[-1, 1], [-2, 2], [0, 3]])
+    np.testing.assert_array_equal(d["entries"]["c_a[2]"], [2.0, 4.5])
+    (tmp_path / "bad.txt").write_text("hello\n")
+    with pytest.raises(ValueError):
+        tx.read_local_dump(str(tmp_path / "bad.txt"))
