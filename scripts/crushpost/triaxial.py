@@ -33,7 +33,6 @@ uyp uzb uzt porosity e_void n_break fines Br eps_a eps_v``.
 """
 
 import json
-import math
 import os
 
 import numpy as np
