@@ -24,7 +24,7 @@ from crushpost import oedometer  # noqa: E402
 from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
-from crushpost.prep import prep_cost, prep_time_step, read_prep_report  # noqa: E402
+from crushpost.prep import element_prep_summary, prep_time_step  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 
 RHO = 2600.0
@@ -108,18 +108,8 @@ def postprocess(args, out, wall, n0):
 
 
 def prep_report(args, out):
-    """The prepared sample as the deck reported it (inputs/prepare_expand.in):
-    porosity of the core (farther than one d50 from the walls) and of the
-    whole cell, static mean platen stress, mean coordination number
-    (grain-grain contacts per grain), the friction the expansion ended with,
-    LIGGGHTS time and steps of the preparation."""
-    log = os.path.join(out, "log.liggghts")
-    exp = read_prep_report(log).get("expanded", {})
-    seconds, steps = prep_cost(log, marker="EXPANDED")
-    return {"n_target": args.n_target, "s_prep": args.s_prep,
-            "porosity_core": exp.get("porosity_core"), "porosity_all": exp.get("porosity_all"),
-            "p_static": exp.get("p"), "coordination": exp.get("coordination"),
-            "mu_prep_final": exp.get("mu_prep"), "liggghts_time_s": seconds, "steps": steps}
+    """The prepared specimen as the deck reported it (crushpost.prep.element_prep_summary)."""
+    return element_prep_summary(os.path.join(out, "log.liggghts"), args.n_target, args.s_prep)
 
 
 def main(argv=None):

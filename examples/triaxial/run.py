@@ -32,7 +32,7 @@ import numpy as np  # noqa: E402
 from crushpost import triaxial  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
-from crushpost.prep import prep_cost, read_prep_report  # noqa: E402
+from crushpost.prep import element_prep_summary  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 
 RHO = 2600.0
@@ -161,18 +161,8 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
 
 
 def prep_report(args, out):
-    """The prepared specimen as the deck reported it (inputs/prepare_expand.in):
-    porosity of the core (farther than one d50 from every plate) and of the
-    whole specimen, static mean stress, mean coordination number (grain-grain
-    contacts per grain), the friction the expansion ended with, LIGGGHTS
-    time and steps of the preparation."""
-    log = os.path.join(out, "log.liggghts")
-    exp = read_prep_report(log).get("expanded", {})
-    seconds, steps = prep_cost(log, marker="EXPANDED")
-    return {"n_target": args.n_target, "s_prep": args.s_prep,
-            "porosity_core": exp.get("porosity_core"), "porosity_all": exp.get("porosity_all"),
-            "p_static": exp.get("p"), "coordination": exp.get("coordination"),
-            "mu_prep_final": exp.get("mu_prep"), "liggghts_time_s": seconds, "steps": steps}
+    """The prepared specimen as the deck reported it (crushpost.prep.element_prep_summary)."""
+    return element_prep_summary(os.path.join(out, "log.liggghts"), args.n_target, args.s_prep)
 
 
 def parse_args(argv=None):

@@ -261,6 +261,22 @@ def rayleigh_time(r, rho=2600.0, G=9e9, nu=0.2):
     return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 
+def element_prep_summary(log_path, n_target, s_prep):
+    """The prepared specimen of an element test (oedometer, triaxial) as its
+    deck reported it (inputs/prepare_expand.in's EXPANDED line): porosity of
+    the core (farther than one d50 from every wall) and of the whole
+    specimen, static mean stress [Pa], mean coordination number (grain-grain
+    contacts per grain), the friction the expansion ended with, LIGGGHTS time
+    and steps of the preparation; with the targets ``n_target`` and
+    ``s_prep`` [Pa]."""
+    exp = read_prep_report(log_path).get("expanded", {})
+    seconds, steps = prep_cost(log_path, marker="EXPANDED")
+    return {"n_target": n_target, "s_prep": s_prep,
+            "porosity_core": exp.get("porosity_core"), "porosity_all": exp.get("porosity_all"),
+            "p_static": exp.get("p"), "coordination": exp.get("coordination"),
+            "mu_prep_final": exp.get("mu_prep"), "liggghts_time_s": seconds, "steps": steps}
+
+
 def prep_time_step(data_file, fraction=0.15, rho=2600.0, G=9e9, nu=0.2):
     """Time step of the preparation: ``fraction`` of the Rayleigh time of the
     smallest grain as placed (no crushing, so no fragment, before the

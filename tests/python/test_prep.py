@@ -10,7 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from crushpost.prep import (cap_fraction, coordination, core_area, core_volumes, prep_cost,
+from crushpost.prep import (cap_fraction, coordination, core_area, core_volumes,
+                            element_prep_summary, prep_cost,
                             read_prep_report, ring_edges, ring_statistics, sample_porosities)
 from crushpost.stress import ring_average, ring_averages, sphere_ring_volume
 
@@ -206,3 +207,17 @@ def test_read_prep_report_and_cost(tmp_path):
     failed = tmp_path / "failed.log"
     failed.write_text("EXPANDED porosity_core 0.39 p 5000\nPREPARATION FAILED (radial servo, 40 chunks): ...\n")
     assert "prepared" not in read_prep_report(str(failed))
+
+
+def test_element_prep_summary(tmp_path):
+    """The element tests' prep object: the EXPANDED line's numbers, the cost up
+    to it (one Loop line of 1.5 s and 2000 steps) and the targets."""
+    log = tmp_path / "log.liggghts"
+    log.write_text(
+        "Loop time of 1.5 on 2 procs for 2000 steps with 10 atoms\n"
+        "EXPANDED porosity_core 0.386 porosity_all 0.44 p 5010.2 coordination 2.7 mu_prep 0.005 cycles 40 ke_rel 1e-05\n"
+        "Loop time of 2.5 on 2 procs for 3000 steps with 10 atoms\n")
+    s = element_prep_summary(str(log), 0.385, 5e3)
+    assert s == {"n_target": 0.385, "s_prep": 5e3, "porosity_core": 0.386, "porosity_all": 0.44,
+                 "p_static": 5010.2, "coordination": 2.7, "mu_prep_final": 0.005,
+                 "liggghts_time_s": 1.5, "steps": 2000}
