@@ -17,6 +17,7 @@
 #include "crush_args.h"
 #include "crush_breakage_index_kernel.h"
 #include "crush_breakage_kernel.h"
+#include "crush_density_scale_kernel.h"
 #include "crush_fragment_kernel.h"
 #include "domain.h"
 #include "error.h"
@@ -61,7 +62,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   sigma_lim0_(-1), m_(-1), d0_(-1), scale_N_(-1), var_(-1), d_comm_(-1), seed_(0),
   d_max_(-1), d_min_(-1), omega_(2.6), fines_fractal_(true), d_frag_min_(0.0),
-  dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
+  d_scale_ref_(0.0), dt_check_error_(false), dt_frac_(0.2), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
   count_pending_(false), count_local_(0), count_all_(0),
   margin_skip_(true), full_scan_pending_(true), scanned_since_full_(0.0),
@@ -121,7 +122,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   CrushArgs a(error, "fix crush/particle", narg, arg, 3,
               {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed", "br", "d_max", "d_min",
                "omega", "fines_grading", "d_frag_min", "events", "events_append", "dt_check",
-               "dt_frac", "margin_skip"});
+               "dt_frac", "margin_skip", "density_scale"});
   while (a.next()) {
     if (a.is("sigma_lim0")) sigma_lim0_ = a.number(arg_positive("Pa"));
     else if (a.is("m")) m_ = a.number(arg_positive(""));
@@ -146,6 +147,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     else if (a.is("dt_check")) dt_check_error_ = a.choice({"warn", "error"}) == 1;
     else if (a.is("dt_frac")) dt_frac_ = a.number(arg_range(0.0, false, 1.0, true, "in (0, 1]"));
     else if (a.is("margin_skip")) margin_skip_ = a.yes_no();
+    else if (a.is("density_scale")) d_scale_ref_ = a.number(arg_positive("m"));
   }
 
   static const char *required[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed"};
@@ -253,6 +255,48 @@ void FixCrushParticle::assign_missing_strengths()
     if (crush_[i][0] < 0.0) assign_strength(i);
 }
 
+/* ----------------------------------------------------------------------
+   Density scaling (keyword density_scale, crush_density_scale_kernel.h):
+   every particle's mass is set from its true density, radius and the
+   scaling factor at the start of each run, so that a restart or a second
+   run does not scale twice (atom->density stays the true density). Done
+   before the borders of the run's set-up, so ghosts carry the new masses.
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::setup_pre_exchange()
+{
+  if (!(d_scale_ref_ > 0.0)) return;
+  double n_scaled = 0.0, f_max = 1.0;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    const double r = atom->radius[i];
+    const double f = density_scale_factor(2.0 * r, d_scale_ref_);
+    atom->rmass[i] = 4.0 * kPi / 3.0 * r * r * r * atom->density[i] * f;
+    if (f > 1.0) n_scaled += 1.0;
+    f_max = std::max(f_max, f);
+  }
+  double global[2];  // particles scaled, largest factor
+  MPI_Allreduce(&n_scaled, &global[0], 1, MPI_DOUBLE, MPI_SUM, world);
+  MPI_Allreduce(&f_max, &global[1], 1, MPI_DOUBLE, MPI_MAX, world);
+  if (comm->me == 0) {
+    char line[512];
+    snprintf(line, sizeof(line),
+             "fix crush/particle: density scaling on: particles finer than d = %g have their mass "
+             "raised by (d_ref/d)^2 (Rayleigh time of d_ref); %.0f particles scaled now (largest "
+             "factor %g), fragments as they are made; mass balance, fines and Br in true mass\n",
+             d_scale_ref_, global[0], global[1]);
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
+}
+
+double FixCrushParticle::true_mass(int i) const
+{
+  if (!(d_scale_ref_ > 0.0)) return atom->rmass[i];
+  const double r = atom->radius[i];
+  return 4.0 * kPi / 3.0 * r * r * r * atom->density[i];
+}
+
 void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
 void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
 
@@ -275,9 +319,10 @@ void FixCrushParticle::setup(int)
     const int nlocal = atom->nlocal;
     for (int i = 0; i < nlocal; i++) {
       if (!(atom->mask[i] & groupbit)) continue;
-      local[0] += atom->rmass[i];
-      local[1] += breakage_integral_term(atom->rmass[i], 2.0 * atom->radius[i], d_min_, d_max_);
-      br_histogram_add(atom->rmass[i], 2.0 * atom->radius[i], grid, &local[2]);
+      const double m = true_mass(i);
+      local[0] += m;
+      local[1] += breakage_integral_term(m, 2.0 * atom->radius[i], d_min_, d_max_);
+      br_histogram_add(m, 2.0 * atom->radius[i], grid, &local[2]);
     }
     MPI_Allreduce(&local[0], &global[0], 2 + nh, MPI_DOUBLE, MPI_SUM, world);
     mass0_ = global[0];
@@ -329,7 +374,9 @@ void FixCrushParticle::check_timestep()
     if (eligible(i)) r = std::min(r, r_frag_min);
     const int t = atom->type[i] - 1;
     const double G = shear_modulus(E_[t], nu_[t]);
-    local[0] = std::min(local[0], rayleigh_time(r, atom->density[i], G, nu_[t]));
+    // the density the particle of that radius has (scaled below density_scale)
+    const double rho = atom->density[i] * density_scale_factor(2.0 * r, d_scale_ref_);
+    local[0] = std::min(local[0], rayleigh_time(r, rho, G, nu_[t]));
     local[1] = std::min(local[1], r);
   }
   MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MIN, world);
@@ -707,7 +754,7 @@ void FixCrushParticle::break_particles()
 
     apollonian_fragments(r, frag_r, frag_off);
     event_rotation(seed_, (uint64_t)tag_i, R);
-    const double m_parent = atom->rmass[i];
+    const double m_parent = true_mass(i);
     double mass_kept = 0.0;
     for (int f = 0; f < kFragments; f++) {
       if (2.0 * frag_r[f] < d_frag_min_) continue;
@@ -723,8 +770,9 @@ void FixCrushParticle::break_particles()
       if (atom->omega_flag) atom->omega[m][0] = atom->omega[m][1] = atom->omega[m][2] = 0.0;
       atom->radius[m] = frag_r[f];
       atom->density[m] = rho;
-      atom->rmass[m] = 4.0 * kPi / 3.0 * frag_r[f] * frag_r[f] * frag_r[f] * rho;
-      mass_kept += atom->rmass[m];
+      const double m_true = 4.0 * kPi / 3.0 * frag_r[f] * frag_r[f] * frag_r[f] * rho;
+      atom->rmass[m] = m_true * density_scale_factor(2.0 * frag_r[f], d_scale_ref_);
+      mass_kept += m_true;
       for (int q = 0; q < modify->nfix; q++)
         if (modify->fix[q]->create_attribute) modify->fix[q]->set_arrays(m);
       crush_[m][1] = generation + 1.0;
@@ -847,8 +895,8 @@ void FixCrushParticle::compute_globals()
   const int nlocal = atom->nlocal;
   for (int i = 0; i < nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    local[0] += atom->rmass[i];
-    br_histogram_add(atom->rmass[i], 2.0 * atom->radius[i], grid, &local[3]);
+    local[0] += true_mass(i);
+    br_histogram_add(true_mass(i), 2.0 * atom->radius[i], grid, &local[3]);
     rmin_local = std::min(rmin_local, atom->radius[i]);
   }
   MPI_Allreduce(&local[0], &global[0], 3 + nh, MPI_DOUBLE, MPI_SUM, world);

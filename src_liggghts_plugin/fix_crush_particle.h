@@ -31,6 +31,7 @@ class FixCrushParticle : public Fix {
   int setmask();
   void init();
   void setup(int);
+  void setup_pre_exchange();
   void setup_pre_neighbor();
   void pre_neighbor();
   void pre_exchange();
@@ -63,6 +64,10 @@ class FixCrushParticle : public Fix {
   double d_max_, d_min_, omega_;  // Br limit grading
   bool fines_fractal_;            // fines_grading fractal (true) or d_min
   double d_frag_min_;             // fragments finer than this go to fines
+  double d_scale_ref_;            // density_scale: finer particles get its Rayleigh time (0: off)
+  // mass of particle i without density scaling: what the mass balance,
+  // fines and Br count (rmass itself when scaling is off)
+  double true_mass(int i) const;
   bool dt_check_error_;
   double dt_frac_;
   char *events_file_;
