@@ -147,7 +147,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     else if (a.is("dt_check")) dt_check_error_ = a.choice({"warn", "error"}) == 1;
     else if (a.is("dt_frac")) dt_frac_ = a.number(arg_range(0.0, false, 1.0, true, "in (0, 1]"));
     else if (a.is("margin_skip")) margin_skip_ = a.yes_no();
-    else if (a.is("density_scale")) d_scale_ref_ = a.number(arg_positive("m"));
+    else if (a.is("density_scale")) d_scale_ref_ = a.number(arg_non_negative("m"));  // 0: off
   }
 
   static const char *required[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed"};
