@@ -123,6 +123,8 @@ def run_deck(a, out, tip_z0, progress=None):
          "prep_chunk": prep_chunk_for(a.R_ch, a.H_ch),
          "thermo_every": a.thermo_every,
          "jack_every": a.jack_every, "output_block": OUTPUT_BLOCK[a.vtk], "vtk_every": a.vtk_every}
+    if a.d_scale_ref > 0:
+        v["d_scale_ref"] = a.d_scale_ref
     if a.prep_only:
         v["jacking_block"] = "none"
     if a.snapshots == "yes":
@@ -375,6 +377,10 @@ def main(argv=None):
     p.add_argument("--thermo-every", type=int, default=1000)
     p.add_argument("--jack-every", type=int, default=200)
     p.add_argument("--seed", type=int, default=15485863)
+    p.add_argument("--d-scale-ref", type=float, default=0.0,
+                   help="density scaling of particles finer than this (m; fix crush/particle "
+                   "density_scale, docs/fix_crush_particle.md); 0 = off. The time step --dt "
+                   "stays as given")
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None)
     p.add_argument("--snapshots", default="yes", choices=["yes", "no"],
