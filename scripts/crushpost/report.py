@@ -123,6 +123,21 @@ def _guard(path, what, reader):
     return read_checked(path, what, reader, error=ReportInputError)
 
 
+def _optional(rep, name, reader, part, what=None):
+    """``reader`` of the run's file ``name``, or None: a missing file skips
+    ``part`` of the report (``what``: what the file would have been), a bad
+    one is an error of the report; neither stops it."""
+    path = rep.path(name)
+    if not os.path.exists(path):
+        rep.skip(part, "%s: no such file%s" % (path, " (%s)" % what if what else ""))
+        return None
+    try:
+        return reader(path)
+    except ReportInputError as exc:
+        rep.error(str(exc))
+        return None
+
+
 def read_summary(path):
     """summary.json of the driver, or None when there is none."""
     if not os.path.exists(path):
@@ -350,32 +365,11 @@ def make_report(run_dir, out_dir=None, opt=None, say=None):
         raise ReportInputError("%s: no R_pile_m; give the pile radius with --pile-radius R (m)"
                                % rep.path("summary.json"))
     N = opt.N or summary.get("N")
-    jack = None
-    if os.path.exists(rep.path("jack.txt")):
-        try:
-            jack = read_jack_checked(rep.path("jack.txt"))
-        except ReportInputError as exc:
-            rep.error(str(exc))
-    else:
-        rep.skip("q_c, tip-relative fields", "%s: no such file (the pile's time series)"
-                 % rep.path("jack.txt"))
-    log_text = None
-    if os.path.exists(rep.path("log.liggghts")):
-        try:
-            log_text = read_log_checked(rep.path("log.liggghts"))
-        except ReportInputError as exc:
-            rep.error(str(exc))
-    else:
-        rep.skip("mass balance and lost atoms", "%s: no such file" % rep.path("log.liggghts"))
-    events = None
-    if os.path.exists(rep.path("breakage_events.txt")):
-        try:
-            events = read_events_checked(rep.path("breakage_events.txt"))
-        except ReportInputError as exc:
-            rep.error(str(exc))
-    else:
-        rep.skip("breakage map", "%s: no such file (unbreakable grains, or the fix's events "
-                 "keyword off)" % rep.path("breakage_events.txt"))
+    jack = _optional(rep, "jack.txt", read_jack_checked, "q_c, tip-relative fields",
+                     "the pile's time series")
+    log_text = _optional(rep, "log.liggghts", read_log_checked, "mass balance and lost atoms")
+    events = _optional(rep, "breakage_events.txt", read_events_checked, "breakage map",
+                       "unbreakable grains, or the fix's events keyword off")
 
     ctx = {"R": float(R), "N": N, "summary": summary, "jack": jack, "events": events,
            "log": log_text, "z_ref": jack["z_ref"] if jack is not None else None}
