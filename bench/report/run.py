@@ -14,7 +14,7 @@
 2. In a fresh Python process for each repeat (so the peak memory is that of
    the reduction alone): reads it (crushpost.snapshot.read_snapshot),
    computes the per-particle stresses with the wall contacts
-   (crushpost.rings.snapshot_stress_fast), the sphere-ring volumes
+   (crushpost.snapshot.snapshot_particle_stress), the sphere-ring volumes
    (crushpost.rings.sphere_cell_volumes; rings R wide and 25 mm high, 12 x 16
    rings) and the ring averages (crushpost.rings.ring_fields), timing each
    step; the peak resident memory is the child's ru_maxrss.
@@ -109,7 +109,8 @@ def write_snapshot(path, n, n_contacts, n_walls=20000, seed=2024):
 def reduce_once(path):
     """The timed reduction (run in a child process)."""
     from crushpost.prep import ring_edges
-    from crushpost.rings import ring_fields, snapshot_stress_fast, sphere_cell_volumes
+    from crushpost.rings import ring_fields, sphere_cell_volumes
+    from crushpost.snapshot import snapshot_particle_stress
     from crushpost.snapshot import read_snapshot
 
     t = {}
@@ -117,7 +118,7 @@ def reduce_once(path):
     snap = read_snapshot(path)
     t["read_s"] = time.perf_counter() - t0
     t1 = time.perf_counter()
-    sig = snapshot_stress_fast(snap)
+    sig = snapshot_particle_stress(snap)
     t["particle_stress_s"] = time.perf_counter() - t1
     p = snap["particles"]
     r_edges = ring_edges(R_PILE, R_CH)

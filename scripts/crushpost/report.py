@@ -41,9 +41,9 @@ from .fields import (binned_mean, cell_breakage, event_density, interp_columns, 
                      qc_reference, qc_trend_band, radial_increments, stress_quantities)
 from .pile import PHASE_PAUSE, PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at
 from .prep import ring_edges
-from .rings import ring_fields, snapshot_stress_fast, sphere_cell_volumes
+from .rings import ring_fields, sphere_cell_volumes
 from .rotation import axis_rotation, unwrap_axis
-from .snapshot import list_snapshots, read_snapshot
+from .snapshot import list_snapshots, read_snapshot, snapshot_particle_stress
 from .spheres import read_sphere_series
 from .stress import invariants
 from .thermo import parse_log
@@ -622,7 +622,7 @@ def _states(rep, ctx):
         x, rad, ids = p["x"], p["radius"], p["id"]
         t = time.time()
         try:
-            sig = snapshot_stress_fast(snap)
+            sig = snapshot_particle_stress(snap)
         except ValueError as exc:
             rep.error("%s: %s" % (path, reason(exc, path)))
             continue

@@ -36,7 +36,7 @@ import numpy as np
 from .stress import to_cylindrical_tensor
 
 __all__ = ["sphere_cell_volumes", "cylinder_below_volume", "ring_volumes", "ring_fields",
-           "fast_particle_stress", "snapshot_stress_fast", "ring_edges_from"]
+           "ring_edges_from"]
 
 _GL = {}
 
@@ -233,60 +233,6 @@ def ring_volumes(r_edges, z_edges, sector=360.0):
     z_edges = np.asarray(z_edges, dtype=float)
     area = sector / 360.0 * math.pi * np.diff(r_edges ** 2)
     return area[:, None] * np.diff(z_edges)[None, :]
-
-
-def fast_particle_stress(index, s, forces, volumes, compression_positive=True):
-    """:func:`crushpost.stress.particle_stress` with one :func:`numpy.bincount`
-    per component (``np.add.at`` is slow on millions of terms)."""
-    index = np.asarray(index, dtype=np.int64)
-    s = np.asarray(s, dtype=float).reshape(-1, 3)
-    forces = np.asarray(forces, dtype=float).reshape(-1, 3)
-    volumes = np.asarray(volumes, dtype=float)
-    n = volumes.size
-    out = np.empty((n, 3, 3))
-    sign = -1.0 if compression_positive else 1.0
-    for i in range(3):
-        for j in range(3):
-            out[:, i, j] = np.bincount(index, weights=s[:, i] * forces[:, j], minlength=n)
-    out *= sign / volumes[:, None, None]
-    return out
-
-
-def snapshot_stress_fast(snap, walls=True):
-    """Per-particle stress of a snapshot (as
-    :func:`crushpost.snapshot.snapshot_particle_stress`, walls included),
-    with :func:`fast_particle_stress`. Returns (N, 3, 3) [Pa]."""
-    from .snapshot import contact_rows
-
-    if snap["contacts"] is None:
-        raise ValueError("%s: written without contacts (contacts yes is needed for the "
-                         "particle stresses)" % snap.get("path"))
-    p = snap["particles"]
-    x = p["x"]
-    vol = 4.0 / 3.0 * math.pi * p["radius"] ** 3
-    pp = snap["contacts"]["pp"]
-    i = contact_rows(snap, pp["id"][:, 0])
-    j = contact_rows(snap, pp["id"][:, 1])
-    cp, f = pp["contact_point"], pp["force"]
-    pw = snap["contacts"]["pw"]
-    n = vol.size
-    out = np.zeros((n, 3, 3))
-    # both sides of each pair contact: s (x) F on i, (cp - x_j) (x) (-F) on j
-    si = cp - x[i]
-    sj = cp - x[j]
-    for a in range(3):
-        for b in range(3):
-            out[:, a, b] = (np.bincount(i, weights=si[:, a] * f[:, b], minlength=n)
-                            - np.bincount(j, weights=sj[:, a] * f[:, b], minlength=n))
-    if walls and pw is not None and len(pw["id"]):
-        iw = contact_rows(snap, pw["id"])
-        sw = pw["contact_point"] - x[iw]
-        for a in range(3):
-            for b in range(3):
-                out[:, a, b] += np.bincount(iw, weights=sw[:, a] * pw["force"][:, b],
-                                            minlength=n)
-    out *= -1.0 / vol[:, None, None]
-    return out
 
 
 def ring_edges_from(width, r_max, height, z_lo, z_hi):

@@ -164,7 +164,8 @@ def snapshot_particle_stress(snap, walls=True, compression_positive=True):
     contacts of a snapshot written with ``contacts yes``. Returns (N, 3, 3)
     in particle order [Pa]; compression positive by default."""
     if snap["contacts"] is None:
-        raise ValueError("snapshot %s was written without contacts" % snap.get("path"))
+        raise ValueError("%s: written without contacts (contacts yes is needed for the "
+                         "particle stresses)" % snap.get("path"))
     p = snap["particles"]
     x = p["x"]
     vol = 4.0 / 3.0 * np.pi * p["radius"] ** 3

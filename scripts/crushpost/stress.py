@@ -145,10 +145,14 @@ def particle_stress(index, s, forces, volumes, compression_positive=True):
     s = np.asarray(s, dtype=float).reshape(-1, 3)
     forces = np.asarray(forces, dtype=float).reshape(-1, 3)
     volumes = np.asarray(volumes, dtype=float)
-    out = np.zeros((volumes.size, 3, 3))
-    np.add.at(out, index, s[:, :, None] * forces[:, None, :])
+    n = volumes.size
+    out = np.empty((n, 3, 3))
+    # one bincount per component: np.add.at is slow on millions of terms
+    for a in range(3):
+        for b in range(3):
+            out[:, a, b] = np.bincount(index, weights=s[:, a] * forces[:, b], minlength=n)
     sign = -1.0 if compression_positive else 1.0
-    return sign * out / volumes[:, None, None]
+    return out * (sign / volumes[:, None, None])
 
 
 def sphere_stress(branch_vectors, forces, volume, compression_positive=True):

@@ -41,8 +41,8 @@ from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.fields import cell_breakage  # noqa: E402
 from crushpost.meshes import (cylinder_triangles, plate_triangles, read_stl,  # noqa: E402
                               write_pile_stl, write_stl)
-from crushpost.rings import ring_fields, snapshot_stress_fast  # noqa: E402
-from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
+from crushpost.rings import ring_fields  # noqa: E402
+from crushpost.snapshot import list_snapshots, read_snapshot, snapshot_particle_stress  # noqa: E402
 from crushpost.spheres import write_sphere_block  # noqa: E402
 from crushpost.thermo import read_log  # noqa: E402
 
@@ -194,7 +194,7 @@ def test_particle_stress_equals_compute_stress_grain(run):
     for _, path in list_snapshots(run["wd"] / "snapshots" / "jack")[-1:] + \
             list_snapshots(run["wd"] / "snapshots" / "prep"):
         snap = read_snapshot(path)
-        sig = snapshot_stress_fast(snap)
+        sig = snapshot_particle_stress(snap)
         sym = 0.5 * (sig + np.swapaxes(sig, 1, 2))
         lig = snap["particles"]["values"]["c_sigma_p"]       # xx yy zz xy xz yz, skew ...
         comp = np.stack([sym[:, 0, 0], sym[:, 1, 1], sym[:, 2, 2], sym[:, 0, 1], sym[:, 0, 2],

@@ -11,10 +11,10 @@ from crushpost.breakage import breakage, sphere_mass
 from crushpost.fields import (binned_mean, cell_breakage, event_density, interp_columns,
                               interp_radius,
                               qc_reference, qc_trend_band, radial_increments, stress_quantities)
-from crushpost.rings import (cylinder_below_volume, fast_particle_stress, ring_fields,
+from crushpost.rings import (cylinder_below_volume, ring_fields,
                              ring_volumes, sphere_cell_volumes)
 from crushpost.rotation import axis_rotation, major_axis_angle, unwrap_axis
-from crushpost.stress import particle_stress, ring_averages, sphere_ring_volume
+from crushpost.stress import ring_averages, sphere_ring_volume
 from crushpost.trend import fit_qc_trend, qc_trend
 
 R_EDGES = np.array([0.0, 0.018, 0.036, 0.054])
@@ -155,15 +155,6 @@ def test_grain_counts_are_centre_counts():
     assert rf["n_grains"].sum() == 3
     assert rf["n_grains"][0, 0] == 1 and rf["n_grains"][1, 0] == 1 and rf["n_grains"][1, 2] == 1
     assert rf["n_equiv"].sum() == pytest.approx(3.0)
-
-
-def test_fast_particle_stress_equals_particle_stress():
-    rng = np.random.default_rng(5)
-    idx = rng.integers(0, 50, 400)
-    s, f = rng.normal(size=(400, 3)), rng.normal(size=(400, 3))
-    vol = rng.uniform(1, 2, 50)
-    assert np.allclose(fast_particle_stress(idx, s, f, vol), particle_stress(idx, s, f, vol),
-                       rtol=1e-12, atol=1e-12)
 
 
 # ---------------------------------------------------------------------------
@@ -337,22 +328,3 @@ def test_qc_reference_is_the_last_push():
     assert np.isnan(out[0]) and out[1:].tolist() == [2.0, 2.0, 4.0]
 
 
-def test_snapshot_stress_fast_equals_snapshot_particle_stress():
-    from crushpost.snapshot import snapshot_particle_stress
-    from crushpost.rings import snapshot_stress_fast
-    rng = np.random.default_rng(10)
-    n, m, k = 60, 200, 30
-    ids = np.sort(rng.choice(np.arange(1, 500), n, replace=False))
-    pairs = rng.choice(ids, (m, 2))
-    pairs = np.sort(pairs[pairs[:, 0] != pairs[:, 1]], axis=1)
-    snap = {"path": "synthetic",
-            "particles": {"id": ids, "x": rng.normal(size=(n, 3)),
-                          "radius": rng.uniform(0.5, 1.0, n)},
-            "contacts": {"pp": {"id": pairs, "contact_point": rng.normal(size=(len(pairs), 3)),
-                                "force": rng.normal(size=(len(pairs), 3))},
-                         "pw": {"id": rng.choice(ids, k), "contact_point": rng.normal(size=(k, 3)),
-                                "force": rng.normal(size=(k, 3))}}}
-    assert np.allclose(snapshot_stress_fast(snap), snapshot_particle_stress(snap),
-                       rtol=1e-12, atol=1e-12)
-    assert np.allclose(snapshot_stress_fast(snap, walls=False),
-                       snapshot_particle_stress(snap, walls=False), rtol=1e-12, atol=1e-12)

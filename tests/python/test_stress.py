@@ -249,3 +249,15 @@ def test_ring_average_of_a_sector():
     np.testing.assert_allclose(g[0, 0], b, rtol=1e-12, atol=1e-15)
     with pytest.raises(ValueError, match="sector"):
         ring_average(iso, full, rad, 1.5, 2.5, -0.5, 0.5, sector=0)
+
+
+def test_particle_stress_equals_a_direct_sum():
+    """The bincount sums against an unbuffered scatter-add of every term."""
+    rng = np.random.default_rng(5)
+    idx = rng.integers(0, 50, 400)
+    s, f = rng.normal(size=(400, 3)), rng.normal(size=(400, 3))
+    vol = rng.uniform(1, 2, 50)
+    direct = np.zeros((50, 3, 3))
+    np.add.at(direct, idx, s[:, :, None] * f[:, None, :])
+    np.testing.assert_allclose(particle_stress(idx, s, f, vol), -direct / vol[:, None, None],
+                               rtol=1e-12, atol=1e-12)
