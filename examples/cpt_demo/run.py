@@ -15,7 +15,7 @@ snapshots/jack_<step>.h5. While LIGGGHTS runs it prints a line per preparation
 stage and per phase of the pile (depth, q_c, breaks so far, elapsed time, an
 estimate of the time left; crushpost.progress), and at the end the folder it
 wrote into (--json: also summary.json on stdout). The full analyses of the
-run: python3 -m crushpost report OUT (docs/report.md; scripts/demo runs it).
+run: crushpost report OUT (docs/report.md; scripts/demo runs it).
 
 Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
 grain is outside the chamber at the end, the mass balance is off by more

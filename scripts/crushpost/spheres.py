@@ -21,7 +21,7 @@ sphere the six components xx yy zz xy xz yz (Pa; the symmetric part).
 block that defines the stress compute, inputs/contacts_local.in);
 `chamber_sphere_centres` places spheres at radii r/R and depths below the
 sample top (SPEC 4.6); `read_sphere_series` reads the output. Command line:
-``python3 -m crushpost spheres --help``.
+``crushpost spheres --help``.
 """
 
 import numpy as np
