@@ -152,6 +152,14 @@ inline double rayleigh_time(double r, double rho, double G, double nu)
   return kPi * r * std::sqrt(rho / G) / (0.1631 * nu + 0.8766);
 }
 
+// Mass of a sphere of radius r and density rho, 4/3 pi r^3 rho. Called by
+// FixCrushParticle for true masses (density scaling), fragments and the fines
+// of a break.
+inline double sphere_mass(double r, double rho)
+{
+  return 4.0 * kPi / 3.0 * r * r * r * rho;
+}
+
 // Shear modulus from Young's modulus: E = 2 G (1 + nu).
 inline double shear_modulus(double E, double nu)
 {

@@ -271,7 +271,7 @@ void FixCrushParticle::setup_pre_exchange()
     if (!(atom->mask[i] & groupbit)) continue;
     const double r = atom->radius[i];
     const double f = density_scale_factor(2.0 * r, d_scale_ref_);
-    atom->rmass[i] = 4.0 * kPi / 3.0 * r * r * r * atom->density[i] * f;
+    atom->rmass[i] = sphere_mass(r, atom->density[i]) * f;
     if (f > 1.0) n_scaled += 1.0;
     f_max = std::max(f_max, f);
   }
@@ -293,8 +293,7 @@ void FixCrushParticle::setup_pre_exchange()
 double FixCrushParticle::true_mass(int i) const
 {
   if (!(d_scale_ref_ > 0.0)) return atom->rmass[i];
-  const double r = atom->radius[i];
-  return 4.0 * kPi / 3.0 * r * r * r * atom->density[i];
+  return sphere_mass(atom->radius[i], atom->density[i]);
 }
 
 void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
@@ -770,7 +769,7 @@ void FixCrushParticle::break_particles()
       if (atom->omega_flag) atom->omega[m][0] = atom->omega[m][1] = atom->omega[m][2] = 0.0;
       atom->radius[m] = frag_r[f];
       atom->density[m] = rho;
-      const double m_true = 4.0 * kPi / 3.0 * frag_r[f] * frag_r[f] * frag_r[f] * rho;
+      const double m_true = sphere_mass(frag_r[f], rho);
       atom->rmass[m] = m_true * density_scale_factor(2.0 * frag_r[f], d_scale_ref_);
       mass_kept += m_true;
       for (int q = 0; q < modify->nfix; q++)
@@ -781,8 +780,8 @@ void FixCrushParticle::break_particles()
     }
     fines_local += m_parent - mass_kept;
     // fines of this break into the Br bins (the fragment masses as created)
-    const double m1 = 4.0 * kPi / 3.0 * (r1 * r) * (r1 * r) * (r1 * r) * rho;
-    const double m2 = 4.0 * kPi / 3.0 * (r2 * r) * (r2 * r) * (r2 * r) * rho;
+    const double m1 = sphere_mass(r1 * r, rho);
+    const double m2 = sphere_mass(r2 * r, rho);
     br_add_break_fines(fines_fractal_, 2.0 * r, m_parent, r1, r2, m1, m2, 2.0 * (r1 * r) >= d_frag_min_,
                        2.0 * (r2 * r) >= d_frag_min_, omega_, grid, &sums[3]);
   }

@@ -491,3 +491,10 @@ TEST(BreakageKernel, MarginHoldsIsConservative)
   EXPECT_FALSE(margin_holds(0.0, 0.0, 0.0));
   EXPECT_FALSE(margin_holds(0.0, 0.0, -1.0));
 }
+
+TEST(BreakageKernel, SphereMass)
+{
+  // a 1 mm diameter quartz sphere: pi/6 (1e-3)^3 2650 kg
+  EXPECT_NEAR(sphere_mass(0.5e-3, 2650.0), 3.14159265358979323846 / 6.0 * 1e-9 * 2650.0, 1e-22);
+  EXPECT_DOUBLE_EQ(sphere_mass(2.0, 1.0) / sphere_mass(1.0, 1.0), 8.0);
+}
