@@ -125,6 +125,8 @@ def run_deck(a, out, tip_z0, progress=None):
          "jack_every": a.jack_every, "output_block": OUTPUT_BLOCK[a.vtk], "vtk_every": a.vtk_every}
     if a.d_scale_ref > 0:
         v["d_scale_ref"] = a.d_scale_ref
+    if a.d_comm_ratio != 0.55:
+        v["d_comm_ratio"] = a.d_comm_ratio
     if a.prep_only:
         v["jacking_block"] = "none"
     if a.snapshots == "yes":
@@ -381,6 +383,9 @@ def main(argv=None):
                    help="density scaling of particles finer than this (m; fix crush/particle "
                    "density_scale, docs/fix_crush_particle.md); 0 = off. The time step --dt "
                    "stays as given")
+    p.add_argument("--d-comm-ratio", type=float, default=0.55,
+                   help="comminution limit d_comm / d50 (SPEC section 3: 0.55); grains at or "
+                   "below d_comm do not break")
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None)
     p.add_argument("--snapshots", default="yes", choices=["yes", "no"],

@@ -53,6 +53,10 @@ def run_deck(args, out, R, H):
          "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
          "n_expand_max": args.prep_loops,
          "dt_prep": args.dt_prep or prep_time_step(os.path.join(out, "grains.data"))}
+    if args.d_scale_ref > 0:
+        v["d_scale_ref"] = args.d_scale_ref
+    if args.d_comm_ratio != 0.55:
+        v["d_comm_ratio"] = args.d_comm_ratio
     return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np,
                         binary=args.liggghts, name="oedometer")
 
@@ -91,6 +95,10 @@ def postprocess(args, out, wall, n0):
         "e_end": float(stress["e_void"][-1]),
         "sigma_v_max_MPa": float(stress["sv"][load].max() / 1e6),
         "n_break_events": int(stress["n_break"][-1]), "Br_final": float(stress["Br"][-1]),
+        # void ratio on loading when sigma_v first reaches 10 and 30 MPa
+        "e_at_10MPa": float(oedometer.loading_state_at(stress, 10e6)[0]),
+        "e_at_30MPa": float(oedometer.loading_state_at(stress, 30e6)[0]),
+        "Br_at_30MPa": float(oedometer.loading_state_at(stress, 30e6, key="Br")[0]),
         # crushing begins: sigma_v where 1 % of the initial grains have broken
         # (and that of the first break), crushpost.oedometer.crushing_onset
         "sigma_v_crush_onset_MPa": oedometer.crushing_onset(stress, n0)[0] / 1e6,
@@ -136,6 +144,11 @@ def main(argv=None):
     p.add_argument("--chunk", type=int, default=2000)
     p.add_argument("--thermo-every", type=int, default=500)
     p.add_argument("--dump-every", type=int, default=5000, help="particle dumps (0 = none)")
+    p.add_argument("--d-scale-ref", type=float, default=0.0,
+                   help="density scaling of particles finer than this (m; fix crush/particle "
+                   "density_scale); 0 = off")
+    p.add_argument("--d-comm-ratio", type=float, default=0.55,
+                   help="comminution limit d_comm / d50 (SPEC section 3: 0.55)")
     p.add_argument("--seed", type=int, default=15485863)
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")

@@ -64,6 +64,26 @@ def crushing_onset(path, n0, fraction=0.01):
             float(sv[k1[0]]) if k1.size else float("nan"))
 
 
+def loading_state_at(path, sv_targets, key="e_void"):
+    """Value of `key` (void ratio by default) on the loading branch (phase 0)
+    when the vertical stress first reaches each of `sv_targets` (Pa): linear
+    in sigma_v between the two thermo lines that bracket the first crossing.
+    The running maximum of sigma_v is used, so a stress drop after a break
+    does not give a second crossing. NaN for a target the loading never
+    reaches (or reached at its first line already). Vectorised over targets."""
+    load = np.asarray(path["phase"]) == 0
+    sv = np.maximum.accumulate(np.asarray(path["sv"], float)[load])
+    y = np.asarray(path[key], float)[load]
+    t = np.atleast_1d(np.asarray(sv_targets, float))
+    k = np.searchsorted(sv, t, side="left")        # first line with sv >= target
+    ok = (k > 0) & (k < sv.size)
+    kk = np.clip(k, 1, max(sv.size - 1, 1))
+    s0, s1 = sv[kk - 1], sv[kk]
+    w = np.where(s1 > s0, (t - s0) / np.where(s1 > s0, s1 - s0, 1.0), 1.0)
+    out = y[kk - 1] + w * (y[kk] - y[kk - 1])
+    return np.where(ok, out, np.nan)
+
+
 def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None, events=None,
                   d_min=None, fines_grading="fractal", d_frag_min=0.0):
     """Grading curves (mass fraction finer than each size) of every dump.

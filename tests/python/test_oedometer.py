@@ -49,3 +49,19 @@ def test_onset_is_the_largest_stress_carried_so_far():
     onset, first = oedometer.crushing_onset(_path(sv, nb), 500)
     assert first == 0.5e6
     assert onset == 0.8e6
+
+
+def test_loading_state_at_interpolates_in_stress_on_the_first_crossing():
+    # e falls linearly in sv from 0.6 at 5 MPa to 0.4 at 15 MPa; a break
+    # relaxes sv to 9 MPa after 12 MPa (running maximum: no second crossing
+    # of 10 MPa); unloading (phase 1) never counts
+    sv = [5e6, 12e6, 9e6, 15e6, 35e6, 20e6]
+    e = [0.6, 0.46, 0.45, 0.4, 0.3, 0.31]
+    path = {"sv": np.array(sv), "e_void": np.array(e), "phase": np.array([0, 0, 0, 0, 0, 1])}
+    got = oedometer.loading_state_at(path, [10e6, 30e6, 40e6, 1e6])
+    # 10 MPa: between 5 (0.6) and 12 MPa (0.46): 0.6 - 0.14 * 5/7
+    assert got[0] == pytest.approx(0.6 - 0.14 * 5.0 / 7.0, rel=1e-12)
+    # 30 MPa: between 15 (0.4) and 35 MPa (0.3)
+    assert got[1] == pytest.approx(0.4 - 0.1 * 15.0 / 20.0, rel=1e-12)
+    assert math.isnan(got[2])        # never reached on loading
+    assert math.isnan(got[3])        # below the first line

@@ -1,0 +1,396 @@
+#!/usr/bin/env python3
+"""Error against run time: what each cost saving gives up (docs/error-vs-runtime.md).
+
+    python3 bench/error_vs_runtime/run.py --list            # the pieces and their state
+    python3 bench/error_vs_runtime/run.py [--only NAME ...] [--budget-h H] [--np N]
+    python3 bench/error_vs_runtime/run.py --table           # table + plot from results.json
+    python3 bench/error_vs_runtime/run.py --smoke           # the whole chain on tiny scenes
+
+One reference setting of the chamber (and of the oedometer) and variants
+that change one thing at a time: the particle up-scaling N, the chamber
+radius R_ch/R, the sector, the time step (a fraction of the smallest
+Rayleigh time), the density-scaling size, the pile (platen) velocity and the
+comminution limit, for crushable and unbreakable grains; the reference with
+a second packing seed gives the scatter that separates an error from noise.
+
+The study is restartable: each piece (one run) is run by the example drivers
+(examples/cpt_demo/run.py, examples/oedometer/run.py), post-processed
+(`crushpost report` for the chamber) and appended to
+bench/error_vs_runtime/results.json at once, with its cost (wall time,
+core-seconds, particle-steps), the machine, the commit and its numbers.
+A later call skips the pieces already there (--redo to run them again), so
+the study goes on in whatever pieces the time at hand allows (--budget-h
+stops starting new pieces after that many hours). Commit results.json
+after each call. Run folders go to results/error_vs_runtime/ (ignored by git).
+"""
+
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
+
+import numpy as np  # noqa: E402
+
+from crushpost import study  # noqa: E402
+from crushpost.thermo import parse_log  # noqa: E402
+
+# NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
+D50_1 = 0.21e-3
+G_GRAIN, NU_GRAIN, RHO = 9e9, 0.2, 2600.0
+SMALL_FRAGMENT_RATIO = 0.23         # smallest fragment over its parent (SPEC section 5)
+R_PILE = 0.018                      # pile radius of the demo and the study (m)
+
+
+def rayleigh_time(r, rho=RHO, G=G_GRAIN, nu=NU_GRAIN):
+    """SPEC: T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
+    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
+
+
+def time_step(N, dt_frac, d_comm_ratio=0.55, d_scale_ref=0.0):
+    """dt = dt_frac x the Rayleigh time of the smallest particle that can
+    occur: the smallest fragment of a grain just above d_comm, or, under
+    density scaling, a particle of size d_scale_ref (its scaled density
+    gives every finer particle that Rayleigh time)."""
+    r_min = SMALL_FRAGMENT_RATIO * 0.5 * d_comm_ratio * D50_1 * N
+    return dt_frac * rayleigh_time(max(r_min, 0.5 * d_scale_ref))
+
+
+# The reference: the paper's N, a 90-degree sector of a chamber 8 R wide,
+# monotonic push at 1 m/s to b h > 3 for the demo's b (about 33 1/m), the
+# demo's time step (0.156 of the smallest Rayleigh time), no density scaling,
+# the paper's comminution limit.
+CHAMBER_REF = {"N": 39.0, "R_ch_over_R": 8.0, "sector": 90, "dt_frac": 0.156, "d_scale_ref_d50": 0.0,
+               "v_push": 1.0, "d_comm_ratio": 0.55, "H_ch": 0.2, "depth": 0.12,
+               "n_target": 0.385, "packing_seed": 2024}
+CHAMBER_VARIANTS = [
+    ("N", [30.0, 50.0]),
+    ("R_ch_over_R", [6.0, 12.0]),
+    ("sector", [180, 360]),
+    ("dt_frac", [0.078, 0.2]),
+    ("d_scale_ref_d50", [0.55, 1.0]),
+    ("v_push", [0.25, 0.5]),
+    ("d_comm_ratio", [0.7, 0.85]),
+]
+OEDO_REF = {"N": 39.0, "R_d50": 5.0, "H_d50": 8.0, "dt_frac": 0.156, "d_scale_ref_d50": 0.0,
+            "v_load": 1.0, "d_comm_ratio": 0.55, "sv_max": 30e6, "n_target": 0.385,
+            "packing_seed": 2024}
+OEDO_VARIANTS = [
+    ("N", [30.0, 50.0]),
+    ("R_d50", [7.0]),
+    ("dt_frac", [0.078, 0.2]),
+    ("d_scale_ref_d50", [0.55, 1.0]),
+    ("v_load", [0.25, 0.5]),
+    ("d_comm_ratio", [0.7, 0.85]),
+]
+# the grain model does not change these, so unbreakable runs skip them
+CRUSH_ONLY = {"d_comm_ratio"}
+# tiny scenes only check the chain (small samples cannot reach 0.385: docs/preparation.md)
+SMOKE_CHAMBER = {"N": 39.0, "R_ch_over_R": 3.3333333, "sector": 360, "H_ch": 0.1, "depth": 0.004}
+SMOKE_OEDO = {"R_d50": 3.0, "H_d50": 4.0, "sv_max": 35e6, "n_target": 0.40}
+
+
+# planning estimates (--list): grains per m^3 of sample at N = 39, from the
+# demo chamber (3,132 grains in pi 0.06^2 0.1 m^3 at core porosity 0.385),
+# steps of the preparation (the demo's: about 2e5), and the 2-rank rate of
+# this machine (docs/cpt.md: 3.8e6 particle-steps per core-second)
+GRAINS_PER_M3_N39 = 3132 / (math.pi * 0.06 ** 2 * 0.1)
+PREP_STEPS = 2.0e5
+RATE_PER_CORE_S = 3.8e6
+
+
+def estimate(p):
+    """(grains, particle-steps, core-hours) expected for a piece: the grain
+    count scales with the sample volume and N^-3; the steps are the
+    preparation plus the push (chamber: depth / (v dt)) or the loading
+    (oedometer: about 30 % strain of the height at the platen speed)."""
+    s = p["setting"]
+    N = s["N"]
+    d50 = D50_1 * N
+    dt = time_step(N, s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * d50)
+    if p["scene"] == "chamber":
+        V = math.pi * (s["R_ch_over_R"] * R_PILE) ** 2 * s["H_ch"] * s["sector"] / 360.0
+        steps = PREP_STEPS + s["depth"] / (s["v_push"] * dt)
+    else:
+        V = math.pi * (s["R_d50"] * d50) ** 2 * s["H_d50"] * d50
+        steps = PREP_STEPS + 0.3 * s["H_d50"] * d50 / (s["v_load"] * dt)
+    n = GRAINS_PER_M3_N39 * V * (39.0 / N) ** 3
+    ps = n * steps
+    return n, ps, ps / RATE_PER_CORE_S / 3600.0
+
+
+def _name(scene, grains, key=None, value=None, seed=None):
+    tag = "ref" if key is None else "%s=%g" % (key, value)
+    if seed is not None:
+        tag += "_seed%d" % seed
+    return "%s_%s_%s" % (scene, "crush" if grains == "crushable_ne34" else "rigid", tag)
+
+
+def pieces(smoke=False):
+    """Every run of the study, in the order they are worth running: the
+    references and their second seeds first, then the variants cheapest
+    first within each scene."""
+    out = []
+    for scene, ref, variants in (("chamber", CHAMBER_REF, CHAMBER_VARIANTS),
+                                 ("oedometer", OEDO_REF, OEDO_VARIANTS)):
+        base = dict(ref)
+        if smoke:
+            base.update(SMOKE_CHAMBER if scene == "chamber" else SMOKE_OEDO)
+        for grains in ("crushable_ne34", "unbreakable"):
+            out.append({"name": _name(scene, grains), "scene": scene, "grains": grains,
+                        "setting": dict(base), "role": "reference"})
+            s2 = dict(base, packing_seed=2025)
+            out.append({"name": _name(scene, grains, seed=2025), "scene": scene, "grains": grains,
+                        "setting": s2, "role": "reference_seed"})
+        if smoke:
+            continue
+        for key, values in variants:
+            for v in values:
+                for grains in ("crushable_ne34", "unbreakable"):
+                    if grains == "unbreakable" and key in CRUSH_ONLY:
+                        continue
+                    out.append({"name": _name(scene, grains, key, v), "scene": scene,
+                                "grains": grains, "setting": dict(base, **{key: v}),
+                                "role": "variant", "varied": key})
+    return out
+
+
+def chamber_args(p, out, np_):
+    s = p["setting"]
+    N = s["N"]
+    d50 = D50_1 * N
+    dt = time_step(N, s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * d50)
+    return [sys.executable, os.path.join(REPO, "examples", "cpt_demo", "run.py"), "--out", out,
+            "--np", str(np_), "--mode", "monotonic", "--grains", p["grains"], "--N", repr(N),
+            "--R-ch", repr(s["R_ch_over_R"] * R_PILE), "--H-ch", repr(s["H_ch"]),
+            "--R-pile", repr(R_PILE), "--sector", str(s["sector"]), "--dt", repr(dt),
+            "--v-push", repr(s["v_push"]), "--depth", repr(s["depth"]),
+            "--d-scale-ref", repr(s["d_scale_ref_d50"] * d50),
+            "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
+            "--n-target", repr(s["n_target"]), "--snapshots", "yes", "--spheres", "no"]
+
+
+def oedometer_args(p, out, np_):
+    s = p["setting"]
+    N = s["N"]
+    d50 = D50_1 * N
+    dt = time_step(N, s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * d50)
+    return [sys.executable, os.path.join(REPO, "examples", "oedometer", "run.py"), "--out", out,
+            "--np", str(np_), "--grains", p["grains"], "--N", repr(N), "--R-d50", repr(s["R_d50"]),
+            "--H-d50", repr(s["H_d50"]), "--dt", repr(dt), "--v-load", repr(s["v_load"]),
+            "--sv-max", repr(s["sv_max"]), "--d-scale-ref", repr(s["d_scale_ref_d50"] * d50),
+            "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
+            "--n-target", repr(s["n_target"]), "--dump-every", "0"]
+
+
+def log_particle_steps(log_path):
+    with open(log_path, errors="replace") as f:
+        blocks = parse_log(f.read())
+    return sum(study.particle_steps(b["Step"], b["Atoms"]) for b in blocks
+               if "Step" in b and "Atoms" in b)
+
+
+def run_piece(p, root, np_, liggghts=None):
+    out = os.path.join(root, p["name"])
+    os.makedirs(out, exist_ok=True)
+    cmd = (chamber_args if p["scene"] == "chamber" else oedometer_args)(p, out, np_)
+    if liggghts:
+        cmd += ["--liggghts", liggghts]
+    t0 = time.time()
+    with open(os.path.join(out, "driver.txt"), "w") as f:
+        rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT)
+    wall = time.time() - t0
+    rec = {"name": p["name"], "scene": p["scene"], "grains": p["grains"], "role": p["role"],
+           "varied": p.get("varied"), "setting": p["setting"], "command": cmd[1:],
+           "exit_status": rc, "wall_s": wall, "mpi_ranks": np_, "core_s": wall * np_,
+           "date": datetime.datetime.now().isoformat(timespec="seconds"),
+           # the machine's load at the end: wall times under load are not costs
+           "loadavg_1_5_15": list(os.getloadavg()),
+           "machine": "%s, %d cores" % (platform.processor() or platform.machine(), os.cpu_count()),
+           "commit": subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"],
+                                    capture_output=True, text=True).stdout.strip()}
+    log = os.path.join(out, "log.liggghts")
+    if os.path.exists(log):
+        rec["particle_steps"] = log_particle_steps(log)
+    summ_path = os.path.join(out, "summary.json")
+    if rc != 0 or not os.path.exists(summ_path):
+        rec["error"] = "driver exit status %d (see %s)" % (rc, os.path.join(out, "driver.txt"))
+        return rec
+    with open(summ_path) as f:
+        summ = json.load(f)
+    rec["n_particles_initial"] = summ.get("n_particles_initial")
+    if p["scene"] == "chamber":
+        rep = os.path.join(out, "report")
+        rc2 = subprocess.call([sys.executable, "-m", "crushpost", "report", out, "--out", rep,
+                               "--profile-h", "0.5"], stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL, env=dict(os.environ, PYTHONPATH=os.path.join(REPO, "scripts")))
+        fields = os.path.join(rep, "fields.h5")
+        if not os.path.exists(fields):
+            rec["error"] = "crushpost report exit status %d, no %s" % (rc2, fields)
+            return rec
+        rec["metrics"] = study.chamber_metrics(summ, fields)
+    else:
+        rec["metrics"] = study.oedometer_metrics(summ)
+    return rec
+
+
+def load(path):
+    if os.path.exists(path):
+        with open(path) as f:
+            return json.load(f)
+    return {"runs": {}}
+
+
+def save(path, data):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(data, f, indent=1)
+    os.replace(tmp, path)
+
+
+CHAMBER_METRICS = ["qc_steady_MPa", "Br_band_1_2", "sigma_r_2R_kPa"]
+OEDO_METRICS = ["e_at_10MPa", "e_at_30MPa", "Br_at_30MPa"]
+
+
+def table(data):
+    """Rows of the study: cost and error of each run against the mean of its
+    reference's seeds, the reference scatter, noise flags, the Pareto front
+    (core-hours against |error| of the first metric, per scene and grains),
+    and the unbreakable / crushable ratio of steady q_c per setting."""
+    runs = [r for r in data["runs"].values() if "metrics" in r]
+    rows = []
+    for scene, metrics in (("chamber", CHAMBER_METRICS), ("oedometer", OEDO_METRICS)):
+        for grains in ("crushable_ne34", "unbreakable"):
+            sel = [r for r in runs if r["scene"] == scene and r["grains"] == grains]
+            refs = [r for r in sel if r["role"] in ("reference", "reference_seed")]
+            if not refs:
+                continue
+            ref_vals = np.array([[r["metrics"].get(m, np.nan) or np.nan for m in metrics] for r in refs], float)
+            ref_mean = np.nanmean(ref_vals, axis=0)
+            scatter = study.seed_scatter(ref_vals) if len(refs) > 1 else np.full(len(metrics), np.nan)
+            vals = np.array([[r["metrics"].get(m, np.nan) or np.nan for m in metrics] for r in sel], float)
+            err = study.relative_error(vals, ref_mean[None, :])
+            # cost: particle-steps at the measured rate (deterministic; the
+            # wall times here carry the load of the shared cores)
+            cost_h = np.array([(r.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
+                               for r in sel])
+            front = study.pareto_front(cost_h, err[:, 0])
+            for k, r in enumerate(sel):
+                rows.append({"name": r["name"], "scene": scene, "grains": grains, "role": r["role"],
+                             "varied": r.get("varied"), "core_h": cost_h[k],
+                             "core_h_measured": r["core_s"] / 3600.0,
+                             "particle_steps": r.get("particle_steps"),
+                             "values": dict(zip(metrics, vals[k].tolist())),
+                             "error": dict(zip(metrics, err[k].tolist())),
+                             "noise": dict(zip(metrics, study.is_noise(err[k], scatter).tolist())),
+                             "reference_scatter": dict(zip(metrics, scatter.tolist())),
+                             "pareto": bool(front[k])})
+    return rows
+
+
+def write_table(rows, path_md, path_png):
+    lines = ["| run | core-hours | particle-steps | " + " | ".join(
+        "%s (err %%)" % m for m in CHAMBER_METRICS) + " | Pareto |", "|---" * 6 + "|"]
+    for r in rows:
+        ms = list(r["values"].keys())
+        cells = []
+        for m in ms:
+            e = r["error"][m]
+            cells.append("%.4g (%s%s)" % (r["values"][m], "%+.1f" % (100 * e) if np.isfinite(e) else "-",
+                                          ", noise" if r["noise"][m] else ""))
+        lines.append("| %s | %.3g | %.3g | %s | %s |" % (r["name"], r["core_h"], r["particle_steps"] or 0,
+                                                       " | ".join(cells), "yes" if r["pareto"] else ""))
+    with open(path_md, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for r in rows:
+        e = list(r["error"].values())[0]
+        if not np.isfinite(e):
+            continue
+        ax.loglog(r["core_h"], max(abs(e), 1e-4), "o" if r["pareto"] else "x",
+                  color="C0" if r["scene"] == "chamber" else "C1")
+        ax.annotate(r["name"].split("_", 2)[-1], (r["core_h"], max(abs(e), 1e-4)), fontsize=6)
+    ax.set_xlabel("cost (core-hours)")
+    ax.set_ylabel("|relative error| of steady q_c / e at 10 MPa (-)")
+    ax.set_title("error against cost; o: Pareto front, x: dominated", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path_png, dpi=120)
+    plt.close(fig)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--list", action="store_true", help="list the pieces and whether they are done")
+    ap.add_argument("--only", nargs="+", default=None, help="run only these pieces (names from --list)")
+    ap.add_argument("--redo", action="store_true", help="run pieces again that are in results.json")
+    ap.add_argument("--budget-h", type=float, default=None,
+                    help="start no new piece after this many hours")
+    ap.add_argument("--np", type=int, default=2, help="MPI ranks per run")
+    ap.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")
+    ap.add_argument("--smoke", action="store_true",
+                    help="the references on tiny scenes (minutes): checks the chain, writes "
+                    "results_smoke.json")
+    ap.add_argument("--table", action="store_true",
+                    help="write table.md and error_vs_cost.png from the results")
+    ap.add_argument("--results", default=None, help="results file (default results.json here)")
+    ap.add_argument("--work", default=os.path.join(REPO, "results", "error_vs_runtime"))
+    a = ap.parse_args(argv)
+    path = a.results or os.path.join(HERE, "results_smoke.json" if a.smoke else "results.json")
+    data = load(path)
+    todo = pieces(smoke=a.smoke)
+    if a.list:
+        print("%-40s %8s %9s %8s  %s" % ("piece", "grains", "p-steps", "core-h", "state (estimates: see estimate())"))
+        tot = 0.0
+        for p in todo:
+            r = data["runs"].get(p["name"])
+            n, ps, ch = estimate(p)
+            state = "-" if r is None else ("error" if "error" in r else "done %.2f core-h" % (r["core_s"] / 3600))
+            tot += ch if r is None or "error" in r else 0.0
+            print("%-40s %8.0f %9.2e %8.2f  %s" % (p["name"], n, ps, ch, state))
+        print("left: about %.0f core-hours" % tot)
+        return 0
+    if a.table:
+        rows = table(data)
+        base = os.path.splitext(path)[0]
+        write_table(rows, base + "_table.md", base + "_error_vs_cost.png")
+        with open(base + "_table.json", "w") as f:
+            json.dump(rows, f, indent=1)
+        print("wrote %s_table.md, _table.json, _error_vs_cost.png (%d runs)" % (base, len(rows)))
+        return 0
+    if a.only:
+        known = {p["name"] for p in todo}
+        bad = [n for n in a.only if n not in known]
+        if bad:
+            ap.error("unknown piece(s) %s; --list shows the names" % ", ".join(bad))
+        todo = [p for p in todo if p["name"] in a.only]
+    t_start = time.time()
+    root = a.work + ("_smoke" if a.smoke else "")
+    for p in todo:
+        if p["name"] in data["runs"] and not a.redo and "error" not in data["runs"][p["name"]]:
+            continue
+        if a.budget_h is not None and time.time() - t_start > a.budget_h * 3600:
+            print("budget of %.2f h spent; stopping before %s" % (a.budget_h, p["name"]))
+            break
+        print("running %s ..." % p["name"], flush=True)
+        rec = run_piece(p, root, a.np, a.liggghts)
+        data["runs"][p["name"]] = rec
+        save(path, data)
+        print("  %s: %.0f s, %s" % (p["name"], rec["wall_s"], rec.get("error") or rec.get("metrics")),
+              flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,132 @@
+"""Error against run time: the pure functions of bench/error_vs_runtime.
+
+A study runs one reference setting and variants that change one thing at a
+time (docs/error-vs-runtime.md). For every run it records what it cost
+(wall time, core-seconds, particle-steps) and a few result numbers; this
+module turns those into errors relative to the reference, says which errors
+lie inside the reference's own seed-to-seed scatter (noise), and marks the
+Pareto front of error against cost. Everything here is vectorised numpy on
+plain arrays; the reading of run folders is in `chamber_metrics` and
+`oedometer_metrics`.
+"""
+
+import numpy as np
+
+
+def particle_steps(step, atoms):
+    """Particle-steps of a run from its thermo lines: the number of grains
+    integrated over the steps (trapezoid between lines, so a count that
+    grows by breakage is followed). step, atoms: 1-D arrays in step order."""
+    step = np.asarray(step, float)
+    atoms = np.asarray(atoms, float)
+    if step.size < 2:
+        return 0.0
+    return float(np.sum(0.5 * (atoms[1:] + atoms[:-1]) * np.diff(step)))
+
+
+def relative_error(value, reference):
+    """(value - reference) / |reference|, elementwise; NaN where the
+    reference is 0 or not finite."""
+    v = np.asarray(value, float)
+    r = np.asarray(reference, float)
+    ok = np.isfinite(r) & (r != 0)
+    return np.where(ok, (v - r) / np.where(ok, np.abs(r), 1.0), np.nan)
+
+
+def seed_scatter(values):
+    """Relative scatter of one setting over packing seeds: half the range
+    over the mean magnitude (for two seeds, |a - b| / |a + b|). A variant's
+    error inside this is noise. values: (n_seeds,) or (n_seeds, n_metrics)."""
+    v = np.asarray(values, float)
+    mean = np.nanmean(v, axis=0)
+    half = 0.5 * (np.nanmax(v, axis=0) - np.nanmin(v, axis=0))
+    ok = np.isfinite(mean) & (mean != 0)
+    return np.where(ok, half / np.where(ok, np.abs(mean), 1.0), np.nan)
+
+
+def is_noise(error, scatter):
+    """True where |error| is inside the reference's scatter (elementwise)."""
+    e = np.abs(np.asarray(error, float))
+    s = np.asarray(scatter, float)
+    return np.isfinite(e) & np.isfinite(s) & (e <= s)
+
+
+def pareto_front(cost, error):
+    """Boolean mask of the runs that no other run beats: another run
+    dominates run i when it costs no more and errs no more (|error|), and
+    is strictly better in one of the two. NaN errors are never on the front."""
+    c = np.asarray(cost, float)
+    e = np.abs(np.asarray(error, float))
+    ok = np.isfinite(c) & np.isfinite(e)
+    ci, cj = c[:, None], c[None, :]
+    ei, ej = e[:, None], e[None, :]
+    dom = (cj <= ci) & (ej <= ei) & ((cj < ci) | (ej < ei)) & ok[None, :]
+    return ok & ~np.any(dom, axis=1)
+
+
+def bilinear(values, x_mid, y_mid, x, y):
+    """Value of a field given at cell centres (values[i, j] at x_mid[i],
+    y_mid[j], both increasing) at the point (x, y), linear in each
+    direction between centres; NaN outside the centres or where a corner
+    is NaN."""
+    v = np.asarray(values, float)
+    xm = np.asarray(x_mid, float)
+    ym = np.asarray(y_mid, float)
+    if not (xm[0] <= x <= xm[-1] and ym[0] <= y <= ym[-1]):
+        return float("nan")
+    i = int(np.clip(np.searchsorted(xm, x, side="right") - 1, 0, xm.size - 2)) if xm.size > 1 else 0
+    j = int(np.clip(np.searchsorted(ym, y, side="right") - 1, 0, ym.size - 2)) if ym.size > 1 else 0
+    tx = (x - xm[i]) / (xm[i + 1] - xm[i]) if xm.size > 1 else 0.0
+    ty = (y - ym[j]) / (ym[j + 1] - ym[j]) if ym.size > 1 else 0.0
+    i1, j1 = min(i + 1, xm.size - 1), min(j + 1, ym.size - 1)
+    return float((1 - tx) * (1 - ty) * v[i, j] + tx * (1 - ty) * v[i1, j]
+                 + (1 - tx) * ty * v[i, j1] + tx * ty * v[i1, j1])
+
+
+def band_value(band_edges, values, lo, hi):
+    """The value of the band [lo, hi] among bands with the given edges
+    (values[k] for band_edges[k]..band_edges[k+1]); NaN if no band has
+    exactly those edges (to 1e-9)."""
+    e = np.asarray(band_edges, float)
+    k = np.flatnonzero(np.isclose(e[:-1], lo, atol=1e-9) & np.isclose(e[1:], hi, atol=1e-9))
+    return float(np.asarray(values, float)[k[0]]) if k.size else float("nan")
+
+
+def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0, 2.0)):
+    """The study's numbers of one chamber run: steady q_c (the trend fit's a,
+    MPa, with b h at the final depth: levelled off when > 3), Br of the band
+    1 < r/R < 2 over the whole height at the last state, and the radial
+    stress at r = 2R, h/R = 0.5 above the apex at the last end of a push
+    (kPa, and over q_c at that state). summary: the dict of summary.json;
+    fields_path: fields.h5 of `crushpost report`."""
+    import h5py
+    out = {"qc_steady_MPa": summary.get("qc_steady_MPa"),
+           "qc_fit_b_per_m": summary.get("qc_fit_b"),
+           "b_h": (summary.get("qc_fit_b") or float("nan")) * summary.get("final_depth_m", float("nan")),
+           "qc_levelled_off": summary.get("qc_levelled_off"),
+           "n_break_events": summary.get("n_break_events")}
+    with h5py.File(fields_path, "r") as f:
+        kinds = np.array([k.decode() if isinstance(k, bytes) else str(k) for k in f["states/kind"][()]])
+        push = np.flatnonzero(kinds == "push_end")
+        if "breakage/bands" in f:
+            g = f["breakage/bands"]
+            out["Br_band_1_2"] = band_value(g["band_edges_over_R"][()], g["Br_band"][()][-1], *band)
+        if push.size and "rings/sigma_r" in f and "rings/h_over_R" in f:
+            k = int(push[-1])
+            sr = f["rings/sigma_r"][()][k]                 # (ring, layer)
+            hR = f["rings/h_over_R"][()][k]                # (layer,)
+            rR = f["rings/r_over_R"][()]
+            order = np.argsort(hR)
+            val = bilinear(sr[:, order], rR, hR[order], r_over_R, h_over_R)
+            out["sigma_r_2R_kPa"] = val / 1e3
+            qn = f["states/qc_norm"][()][k]
+            out["sigma_r_2R_over_qc"] = val / qn if np.isfinite(qn) and qn else float("nan")
+    return out
+
+
+def oedometer_metrics(summary):
+    """The study's numbers of one oedometer run (summary.json of
+    examples/oedometer/run.py): void ratio at 10 and 30 MPa on loading,
+    Br at 30 MPa and at the end."""
+    return {k: summary.get(k) for k in ("e_at_10MPa", "e_at_30MPa", "Br_at_30MPa", "Br_final",
+                                         "n_break_events", "porosity_start_of_loading")}

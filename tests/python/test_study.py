@@ -1,0 +1,78 @@
+"""crushpost.study (bench/error_vs_runtime) on synthetic numbers with known answers."""
+
+import math
+
+import numpy as np
+import pytest
+
+from crushpost import study
+
+
+def test_particle_steps_follow_a_growing_count():
+    # 1000 grains for 100 steps, then growing linearly to 1200 over 100 steps
+    step = [0, 100, 200]
+    atoms = [1000, 1000, 1200]
+    assert study.particle_steps(step, atoms) == pytest.approx(1000 * 100 + 1100 * 100)
+    assert study.particle_steps([5], [10]) == 0.0
+
+
+def test_relative_error_and_seed_scatter():
+    err = study.relative_error([11.0, 9.0, 1.0], [10.0, 10.0, 0.0])
+    assert err[0] == pytest.approx(0.1) and err[1] == pytest.approx(-0.1)
+    assert math.isnan(err[2])
+    # two seeds 9 and 11: half range 1 over mean 10
+    sc = study.seed_scatter(np.array([[9.0, 0.2], [11.0, 0.3]]))
+    assert sc[0] == pytest.approx(0.1) and sc[1] == pytest.approx(0.05 / 0.25)
+    assert list(study.is_noise([0.05, -0.05, 0.2, np.nan], [0.1, 0.01, 0.1, 0.1])) == \
+        [True, False, False, False]
+
+
+def test_pareto_front_marks_the_runs_nothing_beats():
+    cost = np.array([1.0, 2.0, 3.0, 2.0, 4.0, 1.0])
+    err = np.array([0.5, 0.2, 0.1, 0.3, 0.1, np.nan])
+    front = study.pareto_front(cost, err)
+    # run 3 is beaten by run 1 (same cost, smaller error); run 4 by run 2
+    # (cheaper, same error); run 5 has no error
+    assert list(front) == [True, True, True, False, False, False]
+    # the sign of an error does not matter
+    assert list(study.pareto_front([1.0, 2.0], [-0.5, 0.1])) == [True, True]
+
+
+def test_bilinear_reproduces_a_plane_and_is_nan_outside():
+    x = np.array([0.5, 1.5, 2.5])
+    y = np.array([0.0, 1.0, 3.0])
+    v = 2.0 * x[:, None] - 3.0 * y[None, :] + 1.0
+    assert study.bilinear(v, x, y, 2.0, 0.5) == pytest.approx(2 * 2.0 - 3 * 0.5 + 1)
+    assert study.bilinear(v, x, y, 1.0, 2.0) == pytest.approx(2 * 1.0 - 3 * 2.0 + 1)
+    assert math.isnan(study.bilinear(v, x, y, 3.0, 0.5))
+
+
+def test_band_value_picks_the_band_by_its_edges():
+    edges = [0.0, 1.0, 2.0, 3.0]
+    assert study.band_value(edges, [0.3, 0.2, 0.1], 1.0, 2.0) == 0.2
+    assert math.isnan(study.band_value(edges, [0.3, 0.2, 0.1], 1.0, 2.5))
+
+
+def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    p = tmp_path / "fields.h5"
+    r_over_R = np.array([1.5, 2.5, 3.5])
+    with h5py.File(p, "w") as f:
+        f["states/kind"] = np.array([b"initial", b"push_end", b"pause_end"])
+        f["states/qc_norm"] = np.array([np.nan, 10e6, 9e6])
+        f["rings/r_over_R"] = r_over_R
+        h = np.array([[-1.0, 0.0, 1.0]] * 3)            # h/R of the layers, per state
+        f["rings/h_over_R"] = h
+        # sigma_r = 100 kPa * r/R + 10 kPa * h/R in the push state
+        sr = np.zeros((3, 3, 3))
+        sr[1] = 1e5 * r_over_R[:, None] + 1e4 * h[1][None, :]
+        f["rings/sigma_r"] = sr
+        f["breakage/bands/band_edges_over_R"] = np.array([0.0, 1.0, 2.0, 3.0])
+        f["breakage/bands/Br_band"] = np.array([[0, 0, 0], [0.3, 0.2, 0.1], [0.31, 0.21, 0.11]])
+    summ = {"qc_steady_MPa": 12.0, "qc_fit_b": 40.0, "final_depth_m": 0.1,
+            "qc_levelled_off": True, "n_break_events": 7}
+    m = study.chamber_metrics(summ, str(p))
+    assert m["sigma_r_2R_kPa"] == pytest.approx(100 * 2.0 + 10 * 0.5)
+    assert m["sigma_r_2R_over_qc"] == pytest.approx(205e3 / 10e6)
+    assert m["Br_band_1_2"] == pytest.approx(0.21)      # last state
+    assert m["b_h"] == pytest.approx(4.0)
