@@ -84,10 +84,13 @@ def _overhead_module():
 
 
 def lattice_scene(out, n_target, N=39.0, R_ch=0.216, R_pile=0.018, compress=0.003,
-                  perturb=0.0015, safety=3.0, packing_seed=20240611):
+                  perturb=0.0015, safety=3.0, packing_seed=20240611, mesh_refine=1):
     """Write grains.data and the meshes of a chamber slice holding about
-    n_target grains on an FCC lattice, the pile's apex at mid-height."""
+    n_target grains on an FCC lattice, the pile's apex at mid-height.
+    mesh_refine multiplies the facet counts of the side and top walls and of
+    the pile (the grain sites stay those of the coarsest side wall)."""
     overhead = _overhead_module()
+    n_seg = N_SEG_FULL * mesh_refine
     os.makedirs(out, exist_ok=True)
     d50 = D50_REAL * N
     s = (1.0 - compress) * d50
@@ -108,7 +111,10 @@ def lattice_scene(out, n_target, N=39.0, R_ch=0.216, R_pile=0.018, compress=0.00
         H = s / 2 + (n_layers - 1) * a / 2 + s / 2
         z_tip = 0.5 * H
         rho = np.hypot(x, y)
-        inside = rho <= R_ch - r0 * (1.0 - compress)         # at most the lattice overlap on the side
+        # the side wall is a polygon of N_SEG_FULL facets with its vertices on
+        # R_ch: at most the lattice overlap against its flat facets
+        inside = rho <= R_ch * math.cos(math.pi / N_SEG_FULL) - r0 * (1.0 - compress)
+        # (the same sites for every mesh_refine: the coarsest polygon decides)
         # distance to the pile (cone from the apex, shaft above), in the (rho, z) half-plane
         sz = z - z_tip
         prof = np.where(sz < 0, -1.0, np.minimum(sz / h_cone, 1.0) * R_pile)
@@ -134,19 +140,20 @@ def lattice_scene(out, n_target, N=39.0, R_ch=0.216, R_pile=0.018, compress=0.00
     d[rattler] = 0.99 * s
     L = 1.25 * R_ch
     shaft_len = (H - z_tip - h_cone) + 0.1 * H + 2 * d50
-    pile = write_pile_stl(out, R_pile, shaft_length=shaft_len, tip_z=z_tip)
+    pile = write_pile_stl(out, R_pile, shaft_length=shaft_len, tip_z=z_tip, n_seg=24 * mesh_refine)
     box = (-L, L, -L, L, -0.05 * H, pile["z_top"] + 0.02 * H)
     write_lammps_data(os.path.join(out, "grains.data"), pos, d, RHO, box, ntypes=4)
     r_hole = hole_radius(R_pile)
-    write_stl(os.path.join(out, "side.stl"), cylinder_triangles(R_ch, -0.02 * H, 1.1 * H, N_SEG_FULL), "side")
+    write_stl(os.path.join(out, "side.stl"), cylinder_triangles(R_ch, -0.02 * H, 1.1 * H, n_seg), "side")
     write_stl(os.path.join(out, "bottom.stl"), plate_triangles(1.15 * R_ch), "bottom")
-    write_stl(os.path.join(out, "top.stl"), annulus_triangles(r_hole, 1.15 * R_ch, H, N_SEG_FULL), "top")
+    write_stl(os.path.join(out, "top.stl"), annulus_triangles(r_hole, 1.15 * R_ch, H, n_seg), "top")
     write_stl(os.path.join(out, "plug.stl"), plate_triangles(1.4 * R_pile, 1.001 * H), "plug")
     scene = {"grains": int(n), "rattlers": int(rattler.sum()), "layers": n_layers, "H_ch": H,
              "z_tip": z_tip, "R_ch": R_ch, "R_pile": R_pile, "R_hole": r_hole, "N": N, "d50": d50,
              "spacing": s, "compress": compress, "perturb": perturb, "box": list(box),
+             "mesh_refine": mesh_refine,
              "facets": {"cone": pile["cone_facets"], "shaft": pile["shaft_facets"],
-                        "side": 2 * N_SEG_FULL}}
+                        "side": 2 * n_seg, "top": 2 * n_seg}}
     with open(os.path.join(out, "scene.json"), "w") as fh:
         json.dump(scene, fh, indent=2)
     return scene
@@ -589,6 +596,32 @@ def cmd_features(args):
         print(json.dumps({k: row[k] for k in ("variant", "per_step", "extra_per_step", "extra_percent")}),
               flush=True)
         rows.append(row)
+    if args.mesh_refine > 1:
+        # the same grains and base deck with every wall and the pile
+        # mesh_refine times finer: the cost against mesh size
+        fine_dir = os.path.join(args.out, "scene_features_fine")
+        fine = lattice_scene(fine_dir, args.grains, N=args.N, R_ch=args.R_ch_features,
+                             mesh_refine=args.mesh_refine)
+        var = variants[0][2]
+        r = run_deck(args, os.path.join(args.out, "feature_fine"), fine_dir, 1,
+                     deck_vars(args, fine_dir, fine, var), callgrind=not args.wall)
+        row = {"variant": "base, meshes %dx finer" % args.mesh_refine,
+               "what": "base deck; side, top, cone and shaft with %d times the facets (%s)"
+                       % (args.mesh_refine, fine["facets"]),
+               "vars": var, "atoms": r["atoms"], "steps": r["steps"], "n_break": r["n_break"],
+               "neighbor_builds_timed_run": r["neighbor_builds_timed_run"], "facets": fine["facets"]}
+        if args.wall:
+            row["per_step"] = r["loop_s"] / r["steps"]
+        else:
+            rk = r["ranks"][0]
+            row["instructions"] = rk["total"]
+            row["per_step"] = rk["total"] / r["steps"]
+            row["components_per_step"] = {k: v / r["steps"] for k, v in rk["components"].items()}
+        row["extra_per_step"] = row["per_step"] - base_ir
+        row["extra_percent"] = 100.0 * (row["per_step"] / base_ir - 1.0)
+        print(json.dumps({k: row[k] for k in ("variant", "per_step", "extra_per_step", "extra_percent")}),
+              flush=True)
+        rows.append(row)
     return {"what": "instructions per step of each optional feature (bench/icount/run.py features)",
             "command": " ".join(sys.argv), "date_utc": time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
             "machine": machine(), "scene": scene, "steps": args.steps, "wall_clock": args.wall,
@@ -605,6 +638,8 @@ def main(argv=None):
     p.add_argument("--proc-grid", nargs="*", default=None, metavar="P=GRID",
                    help="processors grid per rank count, e.g. '8=4 2 1' (default '* * 1')")
     p.add_argument("--grains", type=int, default=3000, help="features: grains of the small scene")
+    p.add_argument("--mesh-refine", type=int, default=4,
+                   help="features: also run the base deck with meshes this many times finer (1: not)")
     p.add_argument("--only", nargs="*", default=None, help="features: run only these variants (and base)")
     p.add_argument("--steps", type=int, default=None,
                    help="timed steps (default 10 for scaling, 40 for features; 1000 with --wall)")
