@@ -21,11 +21,12 @@ def scaling_tables(res):
     rows = res["summary"]
     print("| ranks | grains per rank (mean) | work per rank per step, mean / max (M instr.) | imbalance max/mean "
           "| replicated work per rank per step (M) | bound on efficiency W_1/(P max W_P) "
-          "| MPI calls per rank per step | MPI instr. per rank per step, mean (M; busy waiting) |")
+          "| MPI calls per rank per step (MPI_Wtime not counted) | MPI instr. per rank per step, mean (M; busy waiting) |")
     print("|---|---|---|---|---|---|---|---|")
     for r, run in zip(rows, res["runs"]):
         W = r["work_per_step_per_rank"]
-        calls = [sum(rk["mpi_calls"].values()) / run["steps"] for rk in run["ranks"]]
+        calls = [sum(v for k, v in rk["mpi_calls"].items() if "Wtime" not in k) / run["steps"]
+                 for rk in run["ranks"]]
         mpi = r["mpi_per_step_per_rank"]
         print("| %d | %.0f | %s / %s | %.3f | %s | %.3f | %.0f | %s |"
               % (r["np"], r["grains_per_rank"], m(sum(W) / len(W)), m(max(W)), r["imbalance_max_over_mean"],
@@ -43,6 +44,17 @@ def scaling_tables(res):
             c = r["components_per_step"].get(n)
             cells.append("%s / %s, %.1f %%" % (m(c["mean"]), m(c["max"]), 100 * c["share_of_mean_work"])
                          if c else "-")
+        print("| %s | %s |" % (n, " | ".join(cells)))
+    print()
+    # replicated work by component: (sum over ranks - the 1-rank count) / P
+    one = rows[0]["components_per_step"]
+    print("| component | " + " | ".join("replicated per rank, P = %d (M)" % r["np"] for r in rows[1:]) + " |")
+    print("|---|" + "---|" * (len(rows) - 1))
+    for n in names:
+        cells = []
+        for r in rows[1:]:
+            c = r["components_per_step"].get(n, {"mean": 0.0})
+            cells.append("%.3f" % ((r["np"] * c["mean"] - one.get(n, {"mean": 0.0})["mean"]) / r["np"] / 1e6))
         print("| %s | %s |" % (n, " | ".join(cells)))
     print()
     # MPI calls by site at the largest rank count, rank 0
