@@ -678,8 +678,8 @@ def main(argv=None):
     p.add_argument("--proc-grid", nargs="*", default=None, metavar="P=GRID",
                    help="processors grid per rank count, e.g. '8=4 2 1' (default '* * 1')")
     p.add_argument("--grains", type=int, default=3000, help="features: grains of the small scene")
-    p.add_argument("--mesh-refine", type=int, default=4,
-                   help="features: also run the base deck with meshes this many times finer (1: not)")
+    p.add_argument("--mesh-refine", type=int, default=1,
+                   help="features: also run the base deck with meshes this many times finer (default 1: not)")
     p.add_argument("--only", nargs="*", default=None, help="features: run only these variants (and base)")
     p.add_argument("--steps", type=int, default=None,
                    help="timed steps (default 10 for scaling, 40 for features; 1000 with --wall)")
