@@ -426,6 +426,10 @@ def run_deck(args, run_dir, scene_dir, np_, var, proc_grid=None, callgrind=True)
            "loop_s": timed["loop_s"], "neighbor_builds_timed_run": log["neighbor_builds"][-1],
            "n_break": log["icount"]["n_break"] if log["icount"] else None,
            "wall_s_incl_setup": wall, "vars": {k: v for k, v in var.items() if k != "inputs"}}
+    if out["n_break"] or out["neighbor_builds_timed_run"]:
+        # the counts are meant for a static packing: say when it was not
+        sys.stderr.write("warning: %s: %s breaks, %d neighbour-list builds in the timed run\n"
+                         % (run_dir, out["n_break"], out["neighbor_builds_timed_run"]))
     if callgrind:
         ranks = []
         files = sorted((f for f in os.listdir(run_dir) if f.startswith("callgrind.out.")),
