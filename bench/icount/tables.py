@@ -4,6 +4,7 @@ JSON files of bench/icount/run.py.
 
     /usr/bin/python3 bench/icount/tables.py [--scaling bench/icount/results_scaling.json]
                                             [--features bench/icount/results_features.json]
+                                            [--rebuild bench/icount/results_scaling_rebuild2.json]
 """
 
 import argparse
@@ -65,6 +66,27 @@ def scaling_tables(res):
         print("  %.1f  %s" % (v / run["steps"], k[:160]))
 
 
+def rebuild_table(static, rebuild):
+    """The cost of one neighbour-list rebuild per rank: the runs with a
+    rebuild every k steps less the static runs, over the rebuilds."""
+    print("| ranks | per rebuild per rank, mean (M) | in static steps | " + "components (mean, M) |")
+    print("|---|---|---|---|")
+    for rs, rr in zip(static["runs"], rebuild["runs"]):
+        assert rs["np"] == rr["np"] and rs["steps"] == rr["steps"]
+        n = rr["neighbor_builds_timed_run"]
+        d = [(b["work"] - a["work"]) / n for a, b in zip(rs["ranks"], rr["ranks"])]
+        mean_static = sum(a["work"] for a in rs["ranks"]) / len(rs["ranks"]) / rs["steps"]
+        comp = {}
+        for a, b in zip(rs["ranks"], rr["ranks"]):
+            for k in set(a["components"]) | set(b["components"]):
+                va = a["components"].get(k, 0) - a["components_mpi"].get(k, 0)
+                vb = b["components"].get(k, 0) - b["components_mpi"].get(k, 0)
+                comp[k] = comp.get(k, 0.0) + (vb - va) / n / len(rs["ranks"])
+        parts = ", ".join("%s %.1f" % (k, v / 1e6) for k, v in sorted(comp.items(), key=lambda kv: -kv[1])
+                          if abs(v) > 5e4)
+        print("| %d | %s | %.2f | %s |" % (rs["np"], m(sum(d) / len(d)), sum(d) / len(d) / mean_static, parts))
+
+
 def feature_table(res):
     print("| variant | what | instructions per step (M) | extra per step | extra |")
     print("|---|---|---|---|---|")
@@ -77,7 +99,11 @@ def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scaling", default=os.path.join(HERE, "results_scaling.json"))
     p.add_argument("--features", default=os.path.join(HERE, "results_features.json"))
+    p.add_argument("--rebuild", default=os.path.join(HERE, "results_scaling_rebuild2.json"))
     a = p.parse_args()
+    if os.path.exists(a.scaling) and os.path.exists(a.rebuild):
+        rebuild_table(json.load(open(a.scaling)), json.load(open(a.rebuild)))
+        print()
     if os.path.exists(a.scaling):
         scaling_tables(json.load(open(a.scaling)))
         print()
