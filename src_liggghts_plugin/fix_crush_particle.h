@@ -134,7 +134,22 @@ class FixCrushParticle : public Fix {
 
   // cache for compute_vector
   bigint cache_step_;
-  double cache_[8];
+  double cache_[14];
+
+  // Energy accounting (keyword energy, crush_energy.h): off by default.
+  class CrushEnergy *energy_;
+  bool energy_on_;
+  int energy_window_;  // steps the fragments of an event are watched
+  // sums over events: elastic energy before, after, released by breaks
+  // (elastic + kinetic before minus after), kinetic energy gained by the
+  // fragments over the window; largest fragment speed
+  double energy_sums_[5];
+  std::vector<std::vector<double> > event_lines_;  // rank 0: records awaiting their window
+  void energy_of_breaks(const std::vector<int> &parents, const std::vector<std::pair<int, int> > &order,
+                        const std::vector<int> &first_tag, std::vector<double> *records);
+  void energy_observe();
+  void energy_write_closed();
+  void write_event_line(const double *e, const double *extra);
 
   void parse_args(int narg, char **arg);
   void assign_strength(int i);
