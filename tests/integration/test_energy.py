@@ -200,27 +200,28 @@ class Lattice:
         self.dt = 0.15 * cd.rayleigh_time(0.5 * d * cd.R2_RATIO)
         self.gap = 0.002 * d
         self.z_top0 = n * d + self.gap
-        self.half = 0.6 * n * d + 2 * d
+        self.half = 0.6 * n * d + 4 * d
         a = 1.001 * d
         c = (np.arange(n) - (n - 1) / 2.0) * a
         self.pos = np.array([(x, y, (k + 0.5) * d) for k in range(n) for x in c for y in c])
-        # travel to the limit of a column (floor and platen contacts with the
-        # larger E*: the platen)
+        # travel to the first limit of a column: the grain-grain contacts
+        # (R* = r/2) reach theirs before the platen and floor (R* = r)
         sigma = cd.strength(d, 1)
-        F = cd.limit_force(sigma, self.r, sg.e_star(sg.T_STEEL))
-        travel = self.gap + cd.hertz_overlap(F, self.r, sg.e_star(sg.T_STEEL)) + \
-            cd.hertz_overlap(F, self.r, sg.e_star(sg.T_STEEL)) + \
-            (n - 1) * cd.hertz_overlap(F, self.r / 2, sg.e_star())
+        E_w, E_g = sg.e_star(sg.T_STEEL), sg.e_star()
+        F = min(cd.limit_force(sigma, self.r, E_w), cd.limit_force(sigma, self.r / 2, E_g))
+        travel = self.gap + 2 * cd.hertz_overlap(F, self.r, E_w) + (n - 1) * cd.hertz_overlap(F, self.r / 2, E_g)
         self.step_pred = int(travel / (speed * self.dt))
-        self.n_pre = max(self.step_pred - 200, 1)
-        self.n_post = 300
+        # fragments fly off at hundreds of m/s: few steps after the breaks,
+        # or they leave the box
+        self.n_pre = max(self.step_pred - 100, 1)
+        self.n_post = 150
 
     def z_top(self, step):
         return self.z_top0 - self.speed * step * self.dt
 
     def deck(self):
         h = self.half
-        box = f"-{h!r} {h!r} -{h!r} {h!r} -0.0005 {self.z_top0 + 0.001!r}"
+        box = f"-{h!r} {h!r} -{h!r} {h!r} -0.004 {self.z_top0 + 0.004!r}"
         text = cd.header(box, sg.MATERIALS, restitution=1.0)
         # frictionless: the test computes every contact energy from positions
         text = text.replace("coefficientFriction peratomtypepair 3 " + " ".join(
@@ -306,7 +307,7 @@ def test_many_breaks_same_step(tmp_path):
 # c. closed elastic box
 # ---------------------------------------------------------------------------
 
-def closed_box_deck(n_side=4, d=1.0e-3, v_rms=0.5, steps=10000, restitution=1.0, seed=12345):
+def closed_box_deck(n_side=4, d=1.0e-3, v_rms=5.0, steps=10000, restitution=1.0, seed=12345):
     rng = np.random.default_rng(seed)
     a = 1.3 * d
     L = n_side * a
@@ -316,7 +317,7 @@ def closed_box_deck(n_side=4, d=1.0e-3, v_rms=0.5, steps=10000, restitution=1.0,
                         f"{cd.FRICTION_GW!r} {cd.FRICTION_GW!r}",
                         "coefficientFriction peratomtypepair 2 0.0 0.0 0.0 0.0")
     assert "peratomtypepair 2 0.0 0.0 0.0 0.0" in text
-    dt = 0.05 * cd.rayleigh_time(0.5 * d * 0.9)
+    dt = 0.1 * cd.rayleigh_time(0.5 * d * 0.9)
     text += f"timestep {dt!r}\n"
     k = 0
     for i in range(n_side):
@@ -328,8 +329,8 @@ def closed_box_deck(n_side=4, d=1.0e-3, v_rms=0.5, steps=10000, restitution=1.0,
                 vel = rng.normal(0.0, v_rms, 3)
                 text += f"create_atoms 1 single {p[0]!r} {p[1]!r} {p[2]!r} units box\n"
                 text += f"set atom {k} diameter {dd!r} density {cd.DENSITY!r}\n"
-                text += f"velocity g{k} set {vel[0]!r} {vel[1]!r} {vel[2]!r} units box\n".replace(
-                    f"velocity g{k}", f"group g{k} id {k}\nvelocity g{k}")
+                text += (f"group gv id {k}\nvelocity gv set {vel[0]!r} {vel[1]!r} {vel[2]!r} units box\n"
+                         "group gv delete\n")
     for w in ("xplane 0.0", f"xplane {L!r}", "yplane 0.0", f"yplane {L!r}", "zplane 0.0", f"zplane {L!r}"):
         name = "w" + w.replace(" ", "_").replace(".", "p").replace("-", "m")
         text += f"fix {name} all wall/gran model hertz tangential history primitive type 2 {w}\n"
@@ -352,16 +353,18 @@ def _closed_box_drift(tmp_path, **kw):
     res = cd.run(closed_box_deck(**kw), tmp_path)
     blk = res.thermo[-1]
     E = np.asarray(blk["v_E_tot"], dtype=float)
+    K = np.asarray(blk["c_ke_t"], dtype=float)
     U = np.asarray(blk["v_U_el"], dtype=float)
     assert len(E) == 101
-    return float(np.max(np.abs(E - E[0])) / E[0]), float(np.max(U) / E[0])
+    return (float(np.max(np.abs(E - E[0])) / E[0]), float(np.max(np.abs(K - K[0])) / E[0]),
+            float(np.mean(U > 0)))
 
 
 def test_closed_elastic_box_conserves_energy(tmp_path):
-    drift, u_share = _closed_box_drift(tmp_path)
-    print("closed box: largest |E - E0| / E0 = %.3g over 10,000 steps; elastic share up to %.3g"
-          % (drift, u_share))
-    # contacts happen (the elastic term is exercised) ...
-    assert u_share > 0.01
-    # ... and kinetic + elastic energy is conserved
+    drift, drift_ke, busy = _closed_box_drift(tmp_path)
+    print("closed box: largest |E - E0| / E0 = %.3g over 10,000 steps (kinetic alone: %.3g); "
+          "contacts stored energy at %.0f %% of the outputs" % (drift, drift_ke, 100 * busy))
+    # contacts happen: the kinetic energy alone is not conserved ...
+    assert drift_ke > 0.01 and busy > 0.5
+    # ... kinetic + elastic energy is
     assert drift < 0.01
