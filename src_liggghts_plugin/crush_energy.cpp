@@ -28,7 +28,8 @@ using namespace LAMMPS_NS;
 using namespace CrushKernels;
 
 CrushEnergy::CrushEnergy(LAMMPS *lmp) :
-  Pointers(lmp), pair_(NULL), ntypes_(0), shear_offset_(-1), seed_(0), d_frag_min_(0.0)
+  Pointers(lmp), pair_(NULL), ntypes_(0), shear_offset_(-1), seed_(0), d_frag_min_(0.0),
+  friction_local_(0.0)
 {
 }
 
@@ -396,4 +397,102 @@ void CrushEnergy::observe(bigint step, int window)
     else open.push_back(e);
   }
   events_.swap(open);
+}
+
+/* ----------------------------------------------------------------------
+   Friction dissipation. LIGGGHTS' tangential history model, per step:
+   s_trial = s_old + v_tr dt with its normal part removed; F_t = -k_t s_trial;
+   where k_t |s_trial| > mu F_n the force is capped and s = s_trial scaled
+   to k_t |s| = mu F_n. The capped part of the displacement,
+   |s_trial| - |s|, slid at the force mu F_n: that is the energy friction
+   dissipated in the step. v_tr as in surface_model_default.h (relative
+   velocity at the contact point, rotation included); F_n elastic Hertz
+   (the decks have no normal viscous damping).
+------------------------------------------------------------------------- */
+
+void CrushEnergy::friction_pre()
+{
+  NeighList *list = pair_ ? pair_->list : NULL;
+  NeighList *hl = pair_ ? pair_->listgranhistory : NULL;
+  if (!list || !hl || shear_offset_ < 0) return;
+  const int dnum = static_cast<PairGran *>(pair_)->dnum();
+  first_.resize(list->inum + 1);
+  int n = 0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    first_[ii] = n;
+    n += list->numneigh[list->ilist[ii]];
+  }
+  first_[list->inum] = n;
+  s_old_.resize(3 * (size_t)n);
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const double *hist = hl->firstdouble[i];
+    double *out = &s_old_[3 * (size_t)first_[ii]];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const double *sh = &hist[dnum * jj + shear_offset_];
+      out[3 * jj] = sh[0]; out[3 * jj + 1] = sh[1]; out[3 * jj + 2] = sh[2];
+    }
+  }
+}
+
+void CrushEnergy::friction_post(double dt)
+{
+  NeighList *list = pair_ ? pair_->list : NULL;
+  NeighList *hl = pair_ ? pair_->listgranhistory : NULL;
+  if (!list || !hl || shear_offset_ < 0 || (int)first_.size() != list->inum + 1) return;
+  const int dnum = static_cast<PairGran *>(pair_)->dnum();
+  double **x = atom->x, **v = atom->v, **omega = atom->omega_flag ? atom->omega : NULL;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  const int nlocal = atom->nlocal;
+  double D = 0.0;
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    if (first_[ii + 1] - first_[ii] != list->numneigh[i]) continue;  // list changed: skip
+    const int *jlist = list->firstneigh[i];
+    const double *hist = hl->firstdouble[i];
+    const double *so = &s_old_[3 * (size_t)first_[ii]];
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      const double mu = mu_.empty() ? 0.0 : mu_[(type[i] - 1) * ntypes_ + (type[j] - 1)];
+      if (!(mu > 0.0)) continue;
+      const double d[3] = {x[i][0] - x[j][0], x[i][1] - x[j][1], x[i][2] - x[j][2]};
+      const double r = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      const double delta = radius[i] + radius[j] - r;
+      if (!(delta > 0.0) || !(r > 0.0)) continue;
+      const double rinv = 1.0 / r;
+      const double en[3] = {d[0] * rinv, d[1] * rinv, d[2] * rinv};
+      const double vr[3] = {v[i][0] - v[j][0], v[i][1] - v[j][1], v[i][2] - v[j][2]};
+      const double vn = vr[0] * en[0] + vr[1] * en[1] + vr[2] * en[2];
+      double vt[3] = {vr[0] - vn * en[0], vr[1] - vn * en[1], vr[2] - vn * en[2]};
+      if (omega) {
+        const double cri = radius[i] - 0.5 * delta, crj = radius[j] - 0.5 * delta;
+        double wr[3];
+        for (int c = 0; c < 3; c++) wr[c] = (cri * omega[i][c] + crj * omega[j][c]) * rinv;
+        vt[0] -= d[2] * wr[1] - d[1] * wr[2];
+        vt[1] -= d[0] * wr[2] - d[2] * wr[0];
+        vt[2] -= d[1] * wr[0] - d[0] * wr[1];
+      }
+      double st[3] = {so[3 * jj] + vt[0] * dt, so[3 * jj + 1] + vt[1] * dt, so[3 * jj + 2] + vt[2] * dt};
+      const double rs = st[0] * en[0] + st[1] * en[1] + st[2] * en[2];
+      st[0] -= rs * en[0]; st[1] -= rs * en[1]; st[2] -= rs * en[2];
+      const double trial = sqrt(st[0] * st[0] + st[1] * st[1] + st[2] * st[2]);
+      const double R = effective_radius(radius[i], radius[j]);
+      const double kt = tangential_stiffness(delta, R, Gs(type[i], type[j]));
+      const double Ff = mu * hertz_normal_force(delta, R, Es(type[i], type[j]));
+      if (!(kt * trial > Ff)) continue;  // sticking
+      const double *sn = &hist[dnum * jj + shear_offset_];
+      const double kept = sqrt(sn[0] * sn[0] + sn[1] * sn[1] + sn[2] * sn[2]);
+      const double slip = trial - kept;
+      if (slip > 0.0) D += ((j < nlocal) ? 1.0 : 0.5) * Ff * slip;  // newton off: ghost pairs twice
+    }
+  }
+  friction_local_ += D;
+}
+
+double CrushEnergy::friction_dissipated()
+{
+  double all = 0.0;
+  MPI_Allreduce(&friction_local_, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
 }

@@ -61,6 +61,16 @@ class CrushEnergy : protected Pointers {
   void observe(bigint step, int window);
   bool watching() const { return !events_.empty(); }
 
+  // Friction dissipation at grain-grain contacts (keyword energy_budget):
+  // friction_pre stores the history springs before the pair force of the
+  // step, friction_post (after it) adds mu F_n |slip| of every sliding
+  // contact, the slip being the part of the step's tangential displacement
+  // that the Coulomb cap removed from the spring. mu per type pair.
+  void set_friction(const std::vector<double> &mu) { mu_ = mu; }
+  void friction_pre();
+  void friction_post(double dt);
+  double friction_dissipated();  // summed over ranks (collective)
+
   struct Event {
     int parent_tag, first_tag, n_frag;
     bigint step;
@@ -84,6 +94,11 @@ class CrushEnergy : protected Pointers {
   double d_frag_min_;
 
   std::vector<Event> events_, closed_;
+
+  std::vector<double> mu_;       // friction coefficient per type pair
+  std::vector<double> s_old_;    // 3 per neighbour-list entry, at friction_pre
+  std::vector<int> first_;       // offset of each list's entries in s_old_
+  double friction_local_;        // this rank's dissipation so far
 
   // a particle-wall contact with its overlap dn < 0 (mesh < 0: primitive wall)
   struct WallHit {

@@ -74,7 +74,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
   initialized_(false), maxtag_ever_(0), natoms_counted_(0), time_offset_(0.0), restart_time_(0.0),
   restart_time_pending_(false), cache_step_(-1),
-  energy_(NULL), energy_on_(false), energy_window_(50)
+  energy_(NULL), energy_on_(false), energy_budget_(false), energy_window_(50)
 {
   std::fill(energy_sums_, energy_sums_ + 5, 0.0);
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -93,7 +93,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 2;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 14;
+  size_vector = 15;
   global_freq = 1;
   extvector = 0;
 
@@ -129,7 +129,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   CrushArgs a(error, "fix crush/particle", narg, arg, 3,
               {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed", "br", "d_max", "d_min",
                "omega", "fines_grading", "d_frag_min", "events", "events_append", "dt_check",
-               "dt_frac", "margin_skip", "density_scale", "energy", "energy_window"});
+               "dt_frac", "margin_skip", "density_scale", "energy", "energy_window", "energy_budget"});
   while (a.next()) {
     if (a.is("sigma_lim0")) sigma_lim0_ = a.number(arg_positive("Pa"));
     else if (a.is("m")) m_ = a.number(arg_positive(""));
@@ -156,8 +156,12 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     else if (a.is("margin_skip")) margin_skip_ = a.yes_no();
     else if (a.is("density_scale")) d_scale_ref_ = a.number(arg_non_negative("m"));  // 0: off
     else if (a.is("energy")) energy_on_ = a.yes_no();
+    else if (a.is("energy_budget")) energy_budget_ = a.yes_no();
     else if (a.is("energy_window")) energy_window_ = (int)a.integer(1, 1000000000, "an integer >= 1 (steps)");
   }
+
+  if (energy_budget_ && !energy_on_)
+    error->all(FLERR, "fix crush/particle: keyword 'energy_budget yes' needs 'energy yes'");
 
   static const char *required[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed"};
   for (unsigned k = 0; k < sizeof(required) / sizeof(required[0]); k++)
@@ -204,6 +208,7 @@ int FixCrushParticle::setmask()
   mask |= PRE_NEIGHBOR;
   mask |= END_OF_STEP;
   mask |= POST_INTEGRATE;
+  if (energy_budget_) mask |= PRE_FORCE | POST_FORCE;
   return mask;
 }
 
@@ -246,6 +251,14 @@ void FixCrushParticle::init()
   if (energy_on_) {
     if (!energy_) energy_ = new CrushEnergy(lmp);
     energy_->init(pair_, walls_, E_, nu_, seed_, d_frag_min_);
+    if (energy_budget_) {
+      FixPropertyGlobal *mu = static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+          "coefficientFriction", "property/global", "peratomtypepair", ntypes_mat_, ntypes_mat_, style));
+      std::vector<double> m(ntypes_mat_ * ntypes_mat_);
+      for (int a = 0; a < ntypes_mat_; a++)
+        for (int b = 0; b < ntypes_mat_; b++) m[a * ntypes_mat_ + b] = mu->compute_array(a, b);
+      energy_->set_friction(m);
+    }
   }
 
   candidate_slot_.clear();
@@ -617,6 +630,10 @@ void FixCrushParticle::clear_candidates()
     if (candidates_[k].i < (int)candidate_slot_.size()) candidate_slot_[candidates_[k].i] = -1;
   candidates_.clear();
 }
+
+// keyword energy_budget: friction dissipation around the pair force
+void FixCrushParticle::pre_force(int) { if (energy_budget_ && energy_) energy_->friction_pre(); }
+void FixCrushParticle::post_force(int) { if (energy_budget_ && energy_) energy_->friction_post(update->dt); }
 
 void FixCrushParticle::end_of_step()
 {
@@ -1049,6 +1066,7 @@ void FixCrushParticle::compute_globals()
   cache_[7] = breakage_index(I, I0, fractal_grading_integral(d_min_, d_max_, omega_));
   for (int q = 0; q < 5; q++) cache_[8 + q] = energy_sums_[q];
   cache_[13] = energy_ ? energy_->total_elastic(groupbit) : 0.0;
+  cache_[14] = (energy_ && energy_budget_) ? energy_->friction_dissipated() : 0.0;
   cache_step_ = update->ntimestep;
 }
 

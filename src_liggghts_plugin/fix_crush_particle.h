@@ -37,6 +37,8 @@ class FixCrushParticle : public Fix {
   void pre_exchange();
   void end_of_step();
   void post_integrate();
+  void pre_force(int);
+  void post_force(int);
   double compute_vector(int);
 
   // per-atom data: sigma_lim and generation
@@ -134,11 +136,12 @@ class FixCrushParticle : public Fix {
 
   // cache for compute_vector
   bigint cache_step_;
-  double cache_[14];
+  double cache_[15];
 
   // Energy accounting (keyword energy, crush_energy.h): off by default.
   class CrushEnergy *energy_;
   bool energy_on_;
+  bool energy_budget_;  // friction dissipation every step (keyword energy_budget)
   int energy_window_;  // steps the fragments of an event are watched
   // sums over events: elastic energy before, after, released by breaks
   // (elastic + kinetic before minus after), kinetic energy gained by the
