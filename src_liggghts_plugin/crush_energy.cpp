@@ -48,11 +48,16 @@ void CrushEnergy::init(Pair *pair, const std::vector<FixWallGran *> &walls, cons
       E_star_[a * ntypes_ + b] = effective_modulus(E[a], nu[a], E[b], nu[b]);
       G_star_[a * ntypes_ + b] = effective_shear_modulus(E[a], nu[a], E[b], nu[b]);
     }
-  // The stored tangential displacement of `tangential history` (absent with
-  // other tangential models: their springs count nothing here)
+  // The stored tangential displacement of `tangential history`. LIGGGHTS
+  // names it "shearx" but does not look such names up; it is the pair's only
+  // history (offset 0) when the pair keeps exactly its 3 values, as
+  // `model hertz tangential history` does. Otherwise the springs (and
+  // friction dissipation) are not counted, and the fix says so.
   shear_offset_ = -1;
-  if (pair_ && pair_->listgranhistory)
-    shear_offset_ = static_cast<PairGranProxy *>(pair_)->get_history_offset("shearx");
+  if (pair_) {
+    PairGran *pg = static_cast<PairGran *>(pair_);
+    if (pg->contact_match("tangential", "history") && pg->dnum_pair() == 3) shear_offset_ = 0;
+  }
 }
 
 /* ---------------------------------------------------------------------- */

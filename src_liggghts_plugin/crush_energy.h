@@ -60,6 +60,7 @@ class CrushEnergy : protected Pointers {
   // to closed(). window: steps watched after the break.
   void observe(bigint step, int window);
   bool watching() const { return !events_.empty(); }
+  bool springs_counted() const { return shear_offset_ >= 0; }
 
   // Friction dissipation at grain-grain contacts (keyword energy_budget):
   // friction_pre stores the history springs before the pair force of the

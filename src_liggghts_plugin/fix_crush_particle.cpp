@@ -251,6 +251,10 @@ void FixCrushParticle::init()
   if (energy_on_) {
     if (!energy_) energy_ = new CrushEnergy(lmp);
     energy_->init(pair_, walls_, E_, nu_, seed_, d_frag_min_);
+    if (!energy_->springs_counted() && comm->me == 0)
+      error->warning(FLERR, "fix crush/particle: keyword 'energy': the pair style is not 'gran model hertz "
+                            "tangential history' (with no other history): tangential springs and friction "
+                            "dissipation are not counted");
     if (energy_budget_) {
       FixPropertyGlobal *mu = static_cast<FixPropertyGlobal *>(modify->find_fix_property(
           "coefficientFriction", "property/global", "peratomtypepair", ntypes_mat_, ntypes_mat_, style));
