@@ -25,8 +25,10 @@ same_step  a simple cubic stack of 5 x 5 x 3 equal grains (var 0,
            frictionless) pressed by a platen: dozens of grains break in the
            same step next to each other.
 pile_tip   a steel cone (60 degrees, interface friction 0.5) pushed into a
-           cubic stack of grains: grains break while touching the mesh and
-           their neighbours.
+           cubic stack of equal grains (var 0) topped by a layer in its
+           hollows, in a closed box: the grain under the tip breaks at its
+           contact with the cone while it touches four grains below, and
+           more follow.
 For every scene: the largest fragment speed (over energy_window steps after
 each break) and the energy released by the breaks.
 """
@@ -237,7 +239,7 @@ def pile_tip(n=(6, 6, 3), d=1.0e-3, speed=0.5, R_pile=1.5e-3):
     stl, hc = cone_stl(R_pile, 2e-3)
     # tip starts just above the top layer, on the axis of the centre column
     z0 = H + 0.01e-3
-    depth = 1.2e-3
+    depth = 2.5e-3
     steps = int(depth / (speed * dt))
     text = header(f"{-half - 1e-4!r} {half + 1e-4!r} {-half - 1e-4!r} {half + 1e-4!r} -1e-4 {H + hc + 4e-3!r}",
                   0.275, 0.5, 0.3e-3)
@@ -245,9 +247,10 @@ def pile_tip(n=(6, 6, 3), d=1.0e-3, speed=0.5, R_pile=1.5e-3):
     text += f"""\
 fix pile all mesh/surface/stress file pile.stl type 2 move 0 0 {z0!r}
 fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes pile
-{side_walls(half)}fix mv all move/mesh mesh pile linear 0. 0. {-speed!r}
+{side_walls(half)}fix lid all wall/gran model hertz tangential history primitive type 3 zplane {H + 2e-3!r}
+fix mv all move/mesh mesh pile linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(0.36, 0.55 * d, "")}fix damp all damp/local alpha 0.05
+{crush_line(0.0, 0.55 * d, "")}fix damp all damp/local alpha 0.05
 thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13] f_pile[3]
 thermo_modify format float %.17g lost error
 thermo 1000
