@@ -421,3 +421,35 @@ def test_energy_budget_closes_in_compression(tmp_path):
     # W_platen = dE_el + dE_kin + D_damping + D_friction + R_breaks
     assert abs(res["budget_residual_rel"]) < BUDGET_TOL
     assert res["budget_residual_rel_max_over_run"] < BUDGET_TOL
+
+
+# ---------------------------------------------------------------------------
+# e. keywords
+# ---------------------------------------------------------------------------
+
+import test_crush_errors as ce  # noqa: E402
+
+
+@pytest.mark.parametrize("key", ["energy", "energy_budget"])
+def test_energy_yes_no_bad_value(tmp_path, key):
+    res = ce.check_error(tmp_path, ce.deck(ce.args(extra=f"energy yes {key} maybe".replace(
+        "energy yes energy maybe", "energy maybe"))), f"keyword '{key}'")
+    assert any("'yes' or 'no'" in e and "maybe" in e for e in res.errors), res.errors
+
+
+@pytest.mark.parametrize("value", ["0", "-5", "2.5", "many"])
+def test_energy_window_range(tmp_path, value):
+    res = ce.check_error(tmp_path, ce.deck(ce.args(extra=f"energy yes energy_window {value}")),
+                         "keyword 'energy_window'")
+    assert any("integer >= 1 (steps)" in e for e in res.errors), res.errors
+
+
+def test_energy_budget_needs_energy(tmp_path):
+    ce.check_error(tmp_path, ce.deck(ce.args(extra="energy_budget yes")),
+                   "keyword 'energy_budget yes' needs 'energy yes'")
+
+
+def test_damp_local_energy_bad_value(tmp_path):
+    text = ce.deck(ce.args()).replace("fix crush all", "fix damp all damp/local alpha 0.05 energy maybe\nfix crush all")
+    res = ce.check_error(tmp_path, text, "keyword 'energy'")
+    assert any("'yes' or 'no'" in e for e in res.errors), res.errors
