@@ -74,7 +74,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
   initialized_(false), maxtag_ever_(0), natoms_counted_(0), time_offset_(0.0), restart_time_(0.0),
   restart_time_pending_(false), cache_step_(-1),
-  energy_(NULL), energy_on_(false), energy_budget_(false), energy_window_(50)
+  energy_(NULL), energy_on_(false), energy_budget_(false), energy_window_(50), nall_at_borders_(-1)
 {
   std::fill(energy_sums_, energy_sums_ + 5, 0.0);
   if (!atom->radius_flag || !atom->rmass_flag)
@@ -333,8 +333,18 @@ double FixCrushParticle::true_mass(int i) const
   return sphere_mass(atom->radius[i], atom->density[i]);
 }
 
-void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
-void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
+void FixCrushParticle::setup_pre_neighbor()
+{
+  assign_missing_strengths();
+  full_scan_pending_ = true;
+  nall_at_borders_ = atom->nlocal + atom->nghost;
+}
+void FixCrushParticle::pre_neighbor()
+{
+  assign_missing_strengths();
+  full_scan_pending_ = true;
+  nall_at_borders_ = atom->nlocal + atom->nghost;
+}
 
 /* ---------------------------------------------------------------------- */
 
@@ -764,7 +774,16 @@ void FixCrushParticle::break_particles()
 
   // energy of the breaks (keyword energy): before any atom is created
   std::vector<double> energy_local;
-  if (energy_on_) energy_of_breaks(parents, order, first_tag, &energy_local);
+  if (energy_on_) {
+    // In pre_exchange the ghosts still hold the positions of the previous
+    // step (Verlet updates them only on steps without a neighbour build):
+    // bring them up to date, as such a step would, while the ghost lists of
+    // the last build are still valid (no atom created or deleted since).
+    int valid = (atom->nlocal + atom->nghost == nall_at_borders_) ? 1 : 0, ok;
+    MPI_Allreduce(&valid, &ok, 1, MPI_INT, MPI_MIN, world);
+    if (ok) comm->forward_comm();
+    energy_of_breaks(parents, order, first_tag, &energy_local);
+  }
 
   // create fragments; sums[0..2] fines mass, fragments, events, then the
   // fines' Br bin integrals (summed over ranks below)

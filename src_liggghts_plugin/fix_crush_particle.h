@@ -143,6 +143,7 @@ class FixCrushParticle : public Fix {
   bool energy_on_;
   bool energy_budget_;  // friction dissipation every step (keyword energy_budget)
   int energy_window_;  // steps the fragments of an event are watched
+  int nall_at_borders_;  // owned + ghost atoms after the last borders (ghost lists valid)
   // sums over events: elastic energy before, after, released by breaks
   // (elastic + kinetic before minus after), kinetic energy gained by the
   // fragments over the window; largest fragment speed

@@ -402,7 +402,8 @@ def main(argv=None):
         res["lost_atoms"] = 0  # the decks stop with an error at the first lost atom
         results[name] = res
         print(name, json.dumps(res, indent=1))
-    results["_command"] = "/usr/bin/python3 bench/extreme_loading/run.py " + " ".join(argv or sys.argv[1:])
+    cmds = results.setdefault("_commands", {})
+    cmds[", ".join(a.scenes)] = "/usr/bin/python3 bench/extreme_loading/run.py " + " ".join(argv or sys.argv[1:])
     with open(a.out, "w") as f:
         json.dump(results, f, indent=1, sort_keys=True)
 

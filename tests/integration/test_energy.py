@@ -221,10 +221,10 @@ class Lattice:
     def z_top(self, step):
         return self.z_top0 - self.speed * step * self.dt
 
-    def deck(self):
+    def deck(self, processors=None):
         h = self.half
         box = f"-{h!r} {h!r} -{h!r} {h!r} -0.004 {self.z_top0 + 0.004!r}"
-        text = cd.header(box, sg.MATERIALS, restitution=1.0)
+        text = cd.header(box, sg.MATERIALS, restitution=1.0, processors=processors)
         # frictionless: the test computes every contact energy from positions
         text = text.replace("coefficientFriction peratomtypepair 3 " + " ".join(
             repr(v) for v in [cd.FRICTION_GG] + [cd.FRICTION_GW] * 3 + [cd.FRICTION_GW] * 5),
@@ -269,9 +269,17 @@ def _all_contacts_energy(lat, x, r, step, keep):
     return U
 
 
-def test_many_breaks_same_step(tmp_path):
+_LATTICE_EVENTS = {}
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_many_breaks_same_step(tmp_path, nprocs):
+    """At 2 ranks the cut x = 0 runs through the middle column: parents have
+    parents of the other rank as contact partners (ghosts), whose fragments
+    the fix rebuilds from the ghost's position, radius and tag."""
     lat = Lattice()
-    res = cd.run(lat.deck(), tmp_path, files={"plate.stl": lat.write_stl})
+    res = cd.run(lat.deck("2 1 1" if nprocs == 2 else None), tmp_path, nprocs=nprocs,
+                 files={"plate.stl": lat.write_stl})
     frames = {f.timestep: f for f in harness.read_dump(res.path("dump.txt"))}
     events = read_energy_events(res.path("events.txt"))
     assert len(events) >= 9, len(events)
@@ -300,6 +308,12 @@ def test_many_breaks_same_step(tmp_path):
         assert fresh.sum() == 14 * len(evs)
         U_a = _all_contacts_energy(lat, x1, f1["radius"], s, fresh)
         assert sum(e["E_el_after"] for e in evs) == pytest.approx(U_a, rel=1e-6, abs=1e-9 * U_b), s
+    _LATTICE_EVENTS[nprocs] = [(e["step"], e["tag"], e["E_el_before"], e["E_el_after"]) for e in events]
+    if 1 in _LATTICE_EVENTS and 2 in _LATTICE_EVENTS:
+        a, b = _LATTICE_EVENTS[1], _LATTICE_EVENTS[2]
+        assert [x[:2] for x in a] == [x[:2] for x in b]
+        for x, y in zip(a, b):
+            assert y[2] == pytest.approx(x[2], rel=1e-9) and y[3] == pytest.approx(x[3], rel=1e-9, abs=1e-20)
     print("lattice: %d events, %d in step %d; E_before %.4g J, E_after %.4g J, v_max %.4g m/s"
           % (len(events), len(per_step[biggest]), biggest, sum(e["E_el_before"] for e in events),
              sum(e["E_el_after"] for e in events), max(e["v_max"] for e in events)))
