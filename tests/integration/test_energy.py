@@ -319,6 +319,28 @@ def test_many_breaks_same_step(tmp_path, nprocs):
              sum(e["E_el_after"] for e in events), max(e["v_max"] for e in events)))
 
 
+def test_energy_accounting_does_not_change_the_run(tmp_path):
+    """The same lattice at 2 ranks without `energy yes`: the same events
+    (step, parent, F_n to the 10 digits of the events file): the accounting
+    (and its update of the ghosts in pre_exchange) only reads."""
+    lat = Lattice()
+    runs = {}
+    for flag in ("on", "off"):
+        deck = lat.deck("2 1 1")
+        if flag == "off":
+            deck = deck.replace(" energy yes energy_window 10", "").replace(
+                " f_crush[9] f_crush[10] f_crush[11] f_crush[14]", "")
+            assert "energy" not in deck
+        res = cd.run(deck, tmp_path / flag, nprocs=2, files={"plate.stl": lat.write_stl})
+        runs[flag] = [(e.step, e.tag, e.F_n) for e in cd.read_events(res.path("events.txt"))] \
+            if flag == "off" else [(e["step"], e["tag"], None) for e in read_energy_events(res.path("events.txt"))]
+        if flag == "on":
+            runs["on_Fn"] = [float(l.split()[7]) for l in Path(res.path("events.txt")).read_text().splitlines()
+                             if l.strip() and not l.startswith("#")]
+    assert [x[:2] for x in runs["on"]] == [x[:2] for x in runs["off"]]
+    assert runs["on_Fn"] == [x[2] for x in runs["off"]]
+
+
 # ---------------------------------------------------------------------------
 # c. closed elastic box
 # ---------------------------------------------------------------------------
