@@ -29,6 +29,8 @@ pile_tip   a steel cone (60 degrees, interface friction 0.5) pushed into a
            hollows, in a closed box: the grain under the tip breaks at its
            contact with the cone while it touches four grains below, and
            more follow.
+oedometer_small  the 64-grain oedometer of the test (e.g. --np 2
+           --processors "2 1 1": the budget at 2 ranks).
 oedometer_big  the oedometer with 9 x 9 x 9 grains (--scenes oedometer_big;
            not in the default set: about 10 minutes).
 For every scene: the largest fragment speed (over energy_window steps after
@@ -261,12 +263,18 @@ run {steps}
     return text, {"pile.stl": stl}, {"dt": dt, "grains": len(pos)}
 
 
+def oedometer_small():
+    """The 64-grain oedometer of tests/integration/test_energy.py."""
+    return oedometer(n=(4, 4, 4), chunk=1000)
+
+
 def oedometer_big():
     """The oedometer with 729 grains: thousands of breaks."""
     return oedometer(n=(9, 9, 9))
 
 
-SCENES = {"oedometer": oedometer, "same_step": same_step, "pile_tip": pile_tip, "oedometer_big": oedometer_big}
+SCENES = {"oedometer": oedometer, "same_step": same_step, "pile_tip": pile_tip, "oedometer_big": oedometer_big,
+          "oedometer_small": oedometer_small}
 
 
 # --------------------------------------------------------------------------
@@ -384,6 +392,7 @@ def main(argv=None):
     ap.add_argument("--scenes", nargs="+", default=["oedometer", "same_step", "pile_tip"], choices=list(SCENES))
     ap.add_argument("--liggghts", default=os.path.join(REPO, "build", "liggghts"))
     ap.add_argument("--np", type=int, default=1)
+    ap.add_argument("--processors", default=None, help='LIGGGHTS processor grid, e.g. "2 1 1"')
     ap.add_argument("--work", default=os.path.join("/tmp", "extreme_loading"))
     ap.add_argument("--out", default=os.path.join(HERE, "results.json"))
     a = ap.parse_args(argv)
@@ -392,7 +401,10 @@ def main(argv=None):
         results = json.load(open(a.out))
     for name in a.scenes:
         text, files, info = SCENES[name]()
-        wd = os.path.join(a.work, name)
+        if a.processors:
+            text = text.replace("newton off\n", "newton off\nprocessors %s\n" % a.processors)
+        key = name if a.np == 1 else "%s_np%d" % (name, a.np)
+        wd = os.path.join(a.work, key)
         shutil.rmtree(wd, ignore_errors=True)
         log, wall = run_deck(text, files, wd, a.liggghts, a.np)
         res = {"ranks": a.np, "wall_s": round(wall, 1), "dt": info["dt"], "grains": info["grains"]}
@@ -400,8 +412,8 @@ def main(argv=None):
         if name.startswith("oedometer"):
             res.update(analyse_oedometer(thermo_rows(log), info))
         res["lost_atoms"] = 0  # the decks stop with an error at the first lost atom
-        results[name] = res
-        print(name, json.dumps(res, indent=1))
+        results[key] = res
+        print(key, json.dumps(res, indent=1))
     cmds = results.setdefault("_commands", {})
     cmds[", ".join(a.scenes)] = "/usr/bin/python3 bench/extreme_loading/run.py " + " ".join(argv or sys.argv[1:])
     with open(a.out, "w") as f:
