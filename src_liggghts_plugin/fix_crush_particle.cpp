@@ -18,6 +18,8 @@
 #include "crush_breakage_index_kernel.h"
 #include "crush_breakage_kernel.h"
 #include "crush_density_scale_kernel.h"
+#include "crush_energy.h"
+#include "crush_energy_kernel.h"
 #include "crush_fragment_kernel.h"
 #include "domain.h"
 #include "error.h"
@@ -49,8 +51,10 @@ const int kRestartBrSettings = 5;
 // list[5] of the restart record: 0 not initialised, 1 initialised (files
 // written before the Br bins, no bins follow), 2 initialised with the bins
 const double kRestartFormatBins = 2.0;
-// one event record: step time tag d x y z F_n F_lim partner generation
+// one event record: step time tag d x y z F_n F_lim partner generation,
+// then with keyword energy: E_el_before E_el_after KE_before KE_frag0
 const int kEventRecord = 11;
+const int kEventEnergy = 4;
 
 std::string str(const char *a) { return std::string(a ? a : ""); }
 
@@ -69,8 +73,10 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   lists_scanned_(0.0), lists_total_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
   initialized_(false), maxtag_ever_(0), natoms_counted_(0), time_offset_(0.0), restart_time_(0.0),
-  restart_time_pending_(false), cache_step_(-1)
+  restart_time_pending_(false), cache_step_(-1),
+  energy_(NULL), energy_on_(false), energy_budget_(false), energy_window_(50), nall_at_borders_(-1)
 {
+  std::fill(energy_sums_, energy_sums_ + 5, 0.0);
   if (!atom->radius_flag || !atom->rmass_flag)
     error->all(FLERR, "fix crush/particle needs per-atom radius and mass: use atom_style granular (sphere)");
   if (!atom->tag_enable)
@@ -87,7 +93,7 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   size_peratom_cols = 2;
   peratom_freq = 1;
   vector_flag = 1;
-  size_vector = 8;
+  size_vector = 15;
   global_freq = 1;
   extvector = 0;
 
@@ -103,7 +109,8 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
       ok = events_ ? 1 : 0;
       if (events_ && !events_append_) {
         fprintf(events_, "# fix crush/particle %s: one line per breakage event\n", id);
-        fprintf(events_, "# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n");
+        fprintf(events_, "# step time parent_tag parent_diameter x y z F_n F_lim partner generation%s\n",
+                energy_on_ ? " E_el_before E_el_after KE_before KE_frag0 KE_gain v_max n_steps" : "");
         fflush(events_);
       }
     }
@@ -122,7 +129,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   CrushArgs a(error, "fix crush/particle", narg, arg, 3,
               {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed", "br", "d_max", "d_min",
                "omega", "fines_grading", "d_frag_min", "events", "events_append", "dt_check",
-               "dt_frac", "margin_skip", "density_scale"});
+               "dt_frac", "margin_skip", "density_scale", "energy", "energy_window", "energy_budget"});
   while (a.next()) {
     if (a.is("sigma_lim0")) sigma_lim0_ = a.number(arg_positive("Pa"));
     else if (a.is("m")) m_ = a.number(arg_positive(""));
@@ -148,7 +155,13 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     else if (a.is("dt_frac")) dt_frac_ = a.number(arg_range(0.0, false, 1.0, true, "in (0, 1]"));
     else if (a.is("margin_skip")) margin_skip_ = a.yes_no();
     else if (a.is("density_scale")) d_scale_ref_ = a.number(arg_non_negative("m"));  // 0: off
+    else if (a.is("energy")) energy_on_ = a.yes_no();
+    else if (a.is("energy_budget")) energy_budget_ = a.yes_no();
+    else if (a.is("energy_window")) energy_window_ = (int)a.integer(1, 1000000000, "an integer >= 1 (steps)");
   }
+
+  if (energy_budget_ && !energy_on_)
+    error->all(FLERR, "fix crush/particle: keyword 'energy_budget yes' needs 'energy yes'");
 
   static const char *required[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed"};
   for (unsigned k = 0; k < sizeof(required) / sizeof(required[0]); k++)
@@ -173,6 +186,12 @@ void FixCrushParticle::parse_args(int narg, char **arg)
 FixCrushParticle::~FixCrushParticle()
 {
   finish_count();
+  // events still inside their window: written with the steps watched so far
+  if (energy_) {
+    for (size_t k = 0; k < energy_->open_events().size(); k++) energy_->closed().push_back(energy_->open_events()[k]);
+    energy_write_closed();
+    delete energy_;
+  }
   atom->delete_callback(id, 0);
   atom->delete_callback(id, 1);
   memory->destroy(crush_);
@@ -189,6 +208,7 @@ int FixCrushParticle::setmask()
   mask |= PRE_NEIGHBOR;
   mask |= END_OF_STEP;
   mask |= POST_INTEGRATE;
+  if (energy_budget_) mask |= PRE_FORCE | POST_FORCE;
   return mask;
 }
 
@@ -227,6 +247,23 @@ void FixCrushParticle::init()
   for (int k = 0; k < modify->nfix; k++)
     if (strncmp(modify->fix[k]->style, "wall/gran", 9) == 0)
       walls_.push_back(static_cast<FixWallGran *>(modify->fix[k]));
+
+  if (energy_on_) {
+    if (!energy_) energy_ = new CrushEnergy(lmp);
+    energy_->init(pair_, walls_, E_, nu_, seed_, d_frag_min_);
+    if (!energy_->springs_counted() && comm->me == 0)
+      error->warning(FLERR, "fix crush/particle: keyword 'energy': the pair style is not 'gran model hertz "
+                            "tangential history' (with no other history): tangential springs and friction "
+                            "dissipation are not counted");
+    if (energy_budget_) {
+      FixPropertyGlobal *mu = static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+          "coefficientFriction", "property/global", "peratomtypepair", ntypes_mat_, ntypes_mat_, style));
+      std::vector<double> m(ntypes_mat_ * ntypes_mat_);
+      for (int a = 0; a < ntypes_mat_; a++)
+        for (int b = 0; b < ntypes_mat_; b++) m[a * ntypes_mat_ + b] = mu->compute_array(a, b);
+      energy_->set_friction(m);
+    }
+  }
 
   candidate_slot_.clear();
   candidates_.clear();
@@ -296,8 +333,18 @@ double FixCrushParticle::true_mass(int i) const
   return sphere_mass(atom->radius[i], atom->density[i]);
 }
 
-void FixCrushParticle::setup_pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
-void FixCrushParticle::pre_neighbor() { assign_missing_strengths(); full_scan_pending_ = true; }
+void FixCrushParticle::setup_pre_neighbor()
+{
+  assign_missing_strengths();
+  full_scan_pending_ = true;
+  nall_at_borders_ = atom->nlocal + atom->nghost;
+}
+void FixCrushParticle::pre_neighbor()
+{
+  assign_missing_strengths();
+  full_scan_pending_ = true;
+  nall_at_borders_ = atom->nlocal + atom->nghost;
+}
 
 /* ---------------------------------------------------------------------- */
 
@@ -598,8 +645,13 @@ void FixCrushParticle::clear_candidates()
   candidates_.clear();
 }
 
+// keyword energy_budget: friction dissipation around the pair force
+void FixCrushParticle::pre_force(int) { if (energy_budget_ && energy_) energy_->friction_pre(); }
+void FixCrushParticle::post_force(int) { if (energy_budget_ && energy_) energy_->friction_post(update->dt); }
+
 void FixCrushParticle::end_of_step()
 {
+  if (energy_ && energy_->watching()) energy_observe();
   detect(false);
 }
 
@@ -720,6 +772,19 @@ void FixCrushParticle::break_particles()
   if (next > 2147483647L)
     error->all(FLERR, "fix crush/particle: atom IDs would exceed the 32-bit limit");
 
+  // energy of the breaks (keyword energy): before any atom is created
+  std::vector<double> energy_local;
+  if (energy_on_) {
+    // In pre_exchange the ghosts still hold the positions of the previous
+    // step (Verlet updates them only on steps without a neighbour build):
+    // bring them up to date, as such a step would, while the ghost lists of
+    // the last build are still valid (no atom created or deleted since).
+    int valid = (atom->nlocal + atom->nghost == nall_at_borders_) ? 1 : 0, ok;
+    MPI_Allreduce(&valid, &ok, 1, MPI_INT, MPI_MIN, world);
+    if (ok) comm->forward_comm();
+    energy_of_breaks(parents, order, first_tag, &energy_local);
+  }
+
   // create fragments; sums[0..2] fines mass, fragments, events, then the
   // fines' Br bin integrals (summed over ranks below)
   const BrGrid grid = br_grid(d_min_, d_max_);
@@ -750,6 +815,8 @@ void FixCrushParticle::break_particles()
     records.push_back(cands[k].F_lim);
     records.push_back((double)cands[k].partner);
     records.push_back(generation);
+    if (energy_on_)
+      for (int q = 0; q < kEventEnergy; q++) records.push_back(energy_local[kEventEnergy * k + q]);
 
     apollonian_fragments(r, frag_r, frag_off);
     event_rotation(seed_, (uint64_t)tag_i, R);
@@ -852,8 +919,9 @@ void FixCrushParticle::check_atom_count()
 void FixCrushParticle::write_events(const std::vector<double> &local_records, int nrec_local)
 {
   if (!events_file_) return;
+  const int rec = kEventRecord + (energy_on_ ? kEventEnergy : 0);
   const int nprocs = comm->nprocs;
-  int n = nrec_local * kEventRecord;
+  int n = nrec_local * rec;
   std::vector<int> counts(nprocs), displs(nprocs);
   MPI_Gather(&n, 1, MPI_INT, &counts[0], 1, MPI_INT, 0, world);
   int total = 0;
@@ -866,15 +934,115 @@ void FixCrushParticle::write_events(const std::vector<double> &local_records, in
   if (comm->me != 0 || !events_) return;
   // lines in order of parent tag, as on one rank
   std::vector<std::pair<double, int> > order;
-  for (int k = 0; k < total / kEventRecord; k++) order.push_back(std::make_pair(all[k * kEventRecord + 2], k));
+  for (int k = 0; k < total / rec; k++) order.push_back(std::make_pair(all[k * rec + 2], k));
   std::sort(order.begin(), order.end());
   for (size_t q = 0; q < order.size(); q++) {
-    const double *e = &all[order[q].second * kEventRecord];
-    // the diameter in full precision: Br can be recomputed from this file
-    fprintf(events_, "%.0f %.10g %.0f %.17g %.10g %.10g %.10g %.10g %.10g %s %.0f\n", e[0], e[1], e[2], e[3],
-            e[4], e[5], e[6], e[7], e[8], e[9] == PARTNER_WALL ? "wall" : "particle", e[10]);
+    const double *e = &all[order[q].second * rec];
+    // with energy, the line waits for the end of the event's window
+    if (energy_on_) event_lines_.push_back(std::vector<double>(e, e + rec));
+    else write_event_line(e, NULL);
   }
   fflush(events_);
+}
+
+// extra: with energy, E_el_before E_el_after KE_before KE_frag0 KE_gain v_max n_steps
+void FixCrushParticle::write_event_line(const double *e, const double *extra)
+{
+  // the diameter in full precision: Br can be recomputed from this file
+  fprintf(events_, "%.0f %.10g %.0f %.17g %.10g %.10g %.10g %.10g %.10g %s %.0f", e[0], e[1], e[2], e[3],
+          e[4], e[5], e[6], e[7], e[8], e[9] == PARTNER_WALL ? "wall" : "particle", e[10]);
+  if (extra)
+    fprintf(events_, " %.10g %.10g %.10g %.10g %.10g %.10g %.0f", extra[0], extra[1], extra[2], extra[3], extra[4],
+            extra[5], extra[6]);
+  fputc('\n', events_);
+}
+
+/* ----------------------------------------------------------------------
+   Energy accounting (keyword energy, crush_energy.h)
+------------------------------------------------------------------------- */
+
+// Per local parent: E_el_before E_el_after KE_before KE_frag0 (4 values each,
+// in *local); the same for all events of the step are summed over ranks and
+// their fragments watched from now on.
+void FixCrushParticle::energy_of_breaks(const std::vector<int> &parents,
+                                        const std::vector<std::pair<int, int> > &order,
+                                        const std::vector<int> &first_tag, std::vector<double> *local)
+{
+  const int nall = atom->nlocal + atom->nghost;
+  const int np_local = (int)parents.size(), np_all = (int)order.size();
+  std::vector<char> is_parent(nall, 0);
+  for (int k = 0; k < nall; k++) {
+    std::vector<std::pair<int, int> >::const_iterator it =
+        std::lower_bound(order.begin(), order.end(), std::make_pair(atom->tag[k], -1));
+    is_parent[k] = (it != order.end() && it->first == atom->tag[k]) ? 1 : 0;
+  }
+  std::vector<double> Eb, Ea;
+  energy_->break_energies(parents, is_parent, &Eb, &Ea);
+
+  local->assign(kEventEnergy * np_local, 0.0);
+  std::vector<double> info(kEventEnergy * np_all + 1, 0.0), info_all(kEventEnergy * np_all + 1, 0.0);
+  double rf[kFragments], xf[kFragments][3];
+  for (int k = 0; k < np_local; k++) {
+    const int i = parents[k];
+    double *v = atom->v[i];
+    double KEb = kinetic_energy(atom->rmass[i], v);
+    if (atom->omega_flag)
+      KEb += kinetic_energy(0.4 * atom->rmass[i] * atom->radius[i] * atom->radius[i], atom->omega[i]);
+    // fragments take the parent's velocity and no spin
+    const int nf = energy_->fragments(atom->x[i], atom->radius[i], atom->tag[i], rf, xf);
+    double KEf = 0.0;
+    for (int f = 0; f < nf; f++)
+      KEf += kinetic_energy(sphere_mass(rf[f], atom->density[i]) * density_scale_factor(2.0 * rf[f], d_scale_ref_), v);
+    const double vals[kEventEnergy] = {Eb[k], Ea[k], KEb, KEf};
+    const int pos = (int)(std::lower_bound(order.begin(), order.end(), std::make_pair(atom->tag[i], -1)) - order.begin());
+    for (int q = 0; q < kEventEnergy; q++) {
+      (*local)[kEventEnergy * k + q] = vals[q];
+      info[kEventEnergy * pos + q] = vals[q];
+    }
+  }
+  MPI_Allreduce(&info[0], &info_all[0], kEventEnergy * np_all + 1, MPI_DOUBLE, MPI_SUM, world);
+  std::vector<int> tags(np_all), nfrag(np_all);
+  for (int k = 0; k < np_all; k++) {
+    const double *e = &info_all[kEventEnergy * k];
+    energy_sums_[0] += e[0];
+    energy_sums_[1] += e[1];
+    energy_sums_[2] += e[0] + e[2] - e[1] - e[3];
+    tags[k] = order[k].first;
+    nfrag[k] = order[k].second;
+  }
+  energy_->watch(update->ntimestep, tags, first_tag, nfrag, info_all);
+}
+
+void FixCrushParticle::energy_observe()
+{
+  energy_->observe(update->ntimestep, energy_window_);
+  energy_write_closed();
+}
+
+// Events whose window is over: sums, and their lines in the events file.
+void FixCrushParticle::energy_write_closed()
+{
+  std::vector<CrushEnergy::Event> &closed = energy_->closed();
+  for (size_t k = 0; k < closed.size(); k++) {
+    energy_sums_[3] += closed[k].KE_max - closed[k].KE_frag0;
+    energy_sums_[4] = std::max(energy_sums_[4], closed[k].v_max);
+  }
+  if (comm->me == 0 && events_ && !closed.empty()) {
+    for (size_t k = 0; k < closed.size(); k++) {
+      const CrushEnergy::Event &c = closed[k];
+      for (size_t q = 0; q < event_lines_.size(); q++) {
+        const std::vector<double> &e = event_lines_[q];
+        if ((bigint)e[0] != c.step || (int)e[2] != c.parent_tag) continue;
+        const double extra[7] = {e[kEventRecord], e[kEventRecord + 1], e[kEventRecord + 2], e[kEventRecord + 3],
+                                 c.KE_max - c.KE_frag0, c.v_max, (double)c.n_obs};
+        write_event_line(&e[0], extra);
+        event_lines_.erase(event_lines_.begin() + q);
+        break;
+      }
+    }
+    fflush(events_);
+  }
+  closed.clear();
 }
 
 /* ---------------------------------------------------------------------- */
@@ -919,6 +1087,9 @@ void FixCrushParticle::compute_globals()
   cache_[5] = (rmin_all < 1e299) ? rmin_all : 0.0;
   cache_[6] = (global[2] > 0.0) ? global[1] / global[2] : 0.0;
   cache_[7] = breakage_index(I, I0, fractal_grading_integral(d_min_, d_max_, omega_));
+  for (int q = 0; q < 5; q++) cache_[8 + q] = energy_sums_[q];
+  cache_[13] = energy_ ? energy_->total_elastic(groupbit) : 0.0;
+  cache_[14] = (energy_ && energy_budget_) ? energy_->friction_dissipated() : 0.0;
   cache_step_ = update->ntimestep;
 }
 

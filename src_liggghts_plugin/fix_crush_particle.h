@@ -37,6 +37,8 @@ class FixCrushParticle : public Fix {
   void pre_exchange();
   void end_of_step();
   void post_integrate();
+  void pre_force(int);
+  void post_force(int);
   double compute_vector(int);
 
   // per-atom data: sigma_lim and generation
@@ -134,7 +136,24 @@ class FixCrushParticle : public Fix {
 
   // cache for compute_vector
   bigint cache_step_;
-  double cache_[8];
+  double cache_[15];
+
+  // Energy accounting (keyword energy, crush_energy.h): off by default.
+  class CrushEnergy *energy_;
+  bool energy_on_;
+  bool energy_budget_;  // friction dissipation every step (keyword energy_budget)
+  int energy_window_;  // steps the fragments of an event are watched
+  int nall_at_borders_;  // owned + ghost atoms after the last borders (ghost lists valid)
+  // sums over events: elastic energy before, after, released by breaks
+  // (elastic + kinetic before minus after), kinetic energy gained by the
+  // fragments over the window; largest fragment speed
+  double energy_sums_[5];
+  std::vector<std::vector<double> > event_lines_;  // rank 0: records awaiting their window
+  void energy_of_breaks(const std::vector<int> &parents, const std::vector<std::pair<int, int> > &order,
+                        const std::vector<int> &first_tag, std::vector<double> *records);
+  void energy_observe();
+  void energy_write_closed();
+  void write_event_line(const double *e, const double *extra);
 
   void parse_args(int narg, char **arg);
   void assign_strength(int i);

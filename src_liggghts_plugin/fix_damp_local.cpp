@@ -23,15 +23,23 @@ using namespace FixConst;
 
 FixDampLocal::FixDampLocal(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
-  alpha_(-1.0)
+  alpha_(-1.0), energy_(false), dissipated_(0.0)
 {
-  // fix ID group damp/local alpha A
-  CrushArgs a(error, "fix damp/local", narg, arg, 3, {"alpha"});
-  while (a.next())
+  // fix ID group damp/local alpha A [energy yes/no]
+  CrushArgs a(error, "fix damp/local", narg, arg, 3, {"alpha", "energy"});
+  while (a.next()) {
     if (a.is("alpha"))
       alpha_ = a.number(CrushKernels::arg_range(0.0, true, 1.0, false, "in [0, 1)"));
+    else if (a.is("energy"))
+      energy_ = a.yes_no();
+  }
   if (!a.given("alpha"))
     a.fail("missing required keyword 'alpha' (the local damping coefficient, a number in [0, 1))");
+  if (energy_) {
+    scalar_flag = 1;
+    global_freq = 1;
+    extscalar = 1;
+  }
 }
 
 /* ---------------------------------------------------------------------- */
@@ -90,13 +98,26 @@ void FixDampLocal::post_force(int)
   double **f = atom->f;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
+  // energy: only in the time loop (not at set-up or in a minimisation)
+  const bool count = energy_ && !update->setupflag && update->whichflag == 1;
+  double removed = 0.0;
 
   for (int i = 0; i < nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    f[i][0] = CrushKernels::local_damping_force(f[i][0], v[i][0], alpha_);
-    f[i][1] = CrushKernels::local_damping_force(f[i][1], v[i][1], alpha_);
-    f[i][2] = CrushKernels::local_damping_force(f[i][2], v[i][2], alpha_);
+    for (int c = 0; c < 3; c++) {
+      const double fd = CrushKernels::local_damping_force(f[i][c], v[i][c], alpha_);
+      if (count) removed -= (fd - f[i][c]) * v[i][c];
+      f[i][c] = fd;
+    }
   }
+  if (count) dissipated_ += removed * update->dt;
+}
+
+double FixDampLocal::compute_scalar()
+{
+  double all = 0.0;
+  MPI_Allreduce(&dissipated_, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+  return all;
 }
 
 void FixDampLocal::min_post_force(int vflag)

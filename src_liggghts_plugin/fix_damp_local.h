@@ -1,6 +1,7 @@
 /* ----------------------------------------------------------------------
    fix damp/local: PFC-style local (non-viscous) damping,
-   F_i <- F_i - alpha |F_i| sign(v_i) on each translational component.
+   F_i <- F_i - alpha |F_i| sign(v_i) on each translational component;
+   keyword energy: the energy it removed (global scalar).
    Doc: docs/fix_damp_local.md
 ------------------------------------------------------------------------- */
 
@@ -26,9 +27,14 @@ class FixDampLocal : public Fix {
   void min_setup(int);
   void post_force(int);
   void min_post_force(int);
+  double compute_scalar();
 
  private:
   double alpha_;
+  // keyword energy: work the damping force removed, -sum f_damp . v dt
+  // over the steps of the runs (the scalar f_ID, summed over ranks)
+  bool energy_;
+  double dissipated_;
 };
 
 }

@@ -82,7 +82,11 @@ def read_dump(path):
 #: Columns of the crush event log written by the breakage fix, in file order.
 CRUSH_LOG_COLUMNS = ("step", "time", "parent_tag", "parent_diameter", "x", "y", "z",
                      "F_n", "F_lim", "partner", "generation")
-_CRUSH_INT = {"step", "parent_tag", "generation"}
+#: Columns that follow with ``energy yes`` (docs/fix_crush_particle.md,
+#: "Energy accounting"), in file order.
+CRUSH_LOG_ENERGY_COLUMNS = ("E_el_before", "E_el_after", "KE_before", "KE_frag0", "KE_gain",
+                            "v_max", "n_steps")
+_CRUSH_INT = {"step", "parent_tag", "generation", "n_steps"}
 
 
 def read_crush_log(path):
@@ -91,7 +95,12 @@ def read_crush_log(path):
     Columns (whitespace separated): step, time [s], parent_tag,
     parent_diameter [m], x y z of the parent centre [m], F_n (the normal
     force that broke it) [N], F_lim [N], partner (``particle`` or ``wall``),
-    generation (0 for an original grain). Lines starting with ``#`` and
+    generation (0 for an original grain). Files written with the fix's
+    ``energy yes`` have 7 more columns (CRUSH_LOG_ENERGY_COLUMNS: elastic
+    energy before and after [J], kinetic energy of the parent and of the
+    fragments at insertion [J], the fragments' kinetic gain [J], their
+    largest speed [m/s], steps watched); they are returned too. Every line
+    of a file has the same number of columns. Lines starting with ``#`` and
     blank lines are skipped.
 
     Returns a dict of (n_events,) arrays keyed by the column names plus
@@ -100,21 +109,26 @@ def read_crush_log(path):
     since ranks may append their events in any order.
     """
     rows = []
+    columns = None
     with _open(path) as fh:
         for lineno, line in enumerate(fh, 1):
             s = line.strip()
             if not s or s.startswith("#"):
                 continue
             words = s.split()
-            if len(words) != len(CRUSH_LOG_COLUMNS):
+            if columns is None:
+                n_plain = len(CRUSH_LOG_COLUMNS)
+                columns = (CRUSH_LOG_COLUMNS + CRUSH_LOG_ENERGY_COLUMNS
+                           if len(words) == n_plain + len(CRUSH_LOG_ENERGY_COLUMNS) else CRUSH_LOG_COLUMNS)
+            if len(words) != len(columns):
                 raise ValueError("%s:%d: expected %d columns, got %d"
-                                 % (path, lineno, len(CRUSH_LOG_COLUMNS), len(words)))
+                                 % (path, lineno, len(columns), len(words)))
             if words[9] not in ("particle", "wall"):
                 raise ValueError("%s:%d: partner must be 'particle' or 'wall', got %r"
                                  % (path, lineno, words[9]))
             rows.append(words)
     out = {}
-    for k, name in enumerate(CRUSH_LOG_COLUMNS):
+    for k, name in enumerate(columns or CRUSH_LOG_COLUMNS):
         vals = [r[k] for r in rows]
         if name == "partner":
             out[name] = np.array(vals, dtype=str)

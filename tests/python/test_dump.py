@@ -89,6 +89,22 @@ def test_read_crush_log(tmp_path):
     assert ev["time"][0] == 1.5e-6
 
 
+def test_read_crush_log_energy_columns(tmp_path):
+    """Files of `energy yes` carry 7 more columns; mixing is an error."""
+    path = tmp_path / "crush.log"
+    path.write_text("# header\n"
+                    "15381 0.017 1 0.00819 0 0 0.0032 1.2e4 1.19e4 wall 0 "
+                    "24.74 8.842 9.9e-07 5.2e-07 9.391 514.5 20\n")
+    ev = read_crush_log(path)
+    assert ev["E_el_before"].tolist() == [24.74]
+    assert ev["v_max"].tolist() == [514.5]
+    assert ev["n_steps"].dtype == np.int64 and ev["n_steps"].tolist() == [20]
+    assert ev["partner_is_wall"].tolist() == [True]
+    path.write_text(path.read_text() + "1 0.1 3 1e-3 0 0 0 1 1 wall 0\n")
+    with pytest.raises(ValueError, match="expected 18 columns, got 11"):
+        read_crush_log(path)
+
+
 def test_crush_log_errors_and_empty(tmp_path):
     path = tmp_path / "crush.log"
     path.write_text("# only a header\n")
