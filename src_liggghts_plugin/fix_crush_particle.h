@@ -70,6 +70,7 @@ class FixCrushParticle : public Fix {
   double true_mass(int i) const;
   bool dt_check_error_;
   double dt_frac_;
+  double dt_omega_;  // limit on omega_max dt of the stiffest contact (check_timestep)
   char *events_file_;
   bool events_append_;
   FILE *events_;
