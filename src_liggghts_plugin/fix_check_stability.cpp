@@ -250,7 +250,7 @@ std::string FixCheckStability::likely_cause(const Culprit &c, bool overlap) cons
                                       : "");
       return buf;
     }
-    snprintf(buf, sizeof(buf), "dt / T_R = %g of this particle is within 0.2 of its Rayleigh time, so ", ratio);
+    snprintf(buf, sizeof(buf), "this particle's dt / T_R = %g is not above 0.2, so ", ratio);
     s = buf;
   }
   return s + "the time step is too large for its stiffest contact (steel, a pile or a "

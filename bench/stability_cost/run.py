@@ -44,10 +44,10 @@ CHECK_LINE = "fix stab all check/stability"
 
 def deck_text(with_check):
     text = open(os.path.join(REPO, "bench", "crush_overhead", "in.crush_overhead")).read()
-    anchor = "include ${inputs}/${grain_model}.in\n"
-    assert anchor in text
+    anchor = "\ninclude ${inputs}/${grain_model}.in\n"   # the command, not the header comment
+    assert text.count(anchor) == 1
     if with_check:
-        text = text.replace(anchor, anchor + CHECK_LINE + "\n", 1)
+        text = text.replace(anchor, anchor + CHECK_LINE + "\n")
     return text
 
 
@@ -68,7 +68,7 @@ def callgrind(args, run_dir, with_check, deck_vars):
     for line in open(out):
         if line.startswith("summary:") or line.startswith("totals:"):
             total = int(line.split()[1])
-    ann = subprocess.run(["callgrind_annotate", "--inclusive=yes", out], check=True,
+    ann = subprocess.run(["callgrind_annotate", "--threshold=100", "--inclusive=yes", out], check=True,
                          stdout=subprocess.PIPE, universal_newlines=True).stdout
     own = 0
     for line in ann.splitlines():
