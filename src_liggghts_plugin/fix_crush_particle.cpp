@@ -450,6 +450,7 @@ void FixCrushParticle::check_timestep()
     }
     const StiffestContact *cls[2] = {&grain, &frag};
     const char *cname[2] = {"grain", "fragment"};
+    std::string report;
     for (int c = 0; c < 2; c++) {
       const StiffestContact &s = *cls[c];
       if (!(s.omega > 0.0)) continue;
@@ -465,9 +466,14 @@ void FixCrushParticle::check_timestep()
                    cname[c], ti, s.r, s.m, pass == 0 ? "particle" : "wall", tj, s.p, Es,
                    hertz_overlap_at_pressure(s.p, Rs, Es) / s.r, hertz_stiffness_at_pressure(s.p, Rs),
                    s.omega * dt, dt_omega_);
-          if (screen) fputs(line, screen);
-          if (logfile) fputs(line, logfile);
+          report += line;
         }
+    }
+    // once, and again when it changes (decks that run in chunks call setup often)
+    if (report != last_contact_report_) {
+      if (screen) fputs(report.c_str(), screen);
+      if (logfile) fputs(report.c_str(), logfile);
+      last_contact_report_ = report;
     }
   }
   if (dt > dt_frac_ * global[0]) {
