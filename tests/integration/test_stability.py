@@ -25,7 +25,8 @@ import harness  # noqa: E402
 
 D_GRAIN = 1.0e-3
 D_COMM = 5e-4
-STEEL, RIGID = 2, 3   # atom types of the walls in `init_deck`
+STEEL, RIGID, PLATEN = 2, 3, 4   # atom types of the walls in `init_deck`
+E_PLATEN = 3.0e11                # a mesh wall's material, stiffer than steel
 
 
 def p_unbreakable(sigma0, var=0.0, d_comm=D_COMM):
@@ -46,13 +47,16 @@ def scale_factor(d, d_ref):
 
 def init_deck(sigma0, dt, extra=""):
     """One 1 mm grain on a steel wall (type 2) next to a rigid plane (type 3,
-    E = 1e21 Pa like the symmetry planes of inputs/materials_ne34.in); the
-    fix with var 0 (the grain's own strength is then sigma(1 mm))."""
+    E = 1e21 Pa like the symmetry planes of inputs/materials_ne34.in) under a
+    mesh platen (type 4, plate.stl, written by the caller); the fix with
+    var 0 (the grain's own strength is then sigma(1 mm))."""
     setup = cd.header("-0.01 0.01 -0.01 0.01 -0.001 0.01",
                       [(cd.E_GRAIN, cd.NU_GRAIN, "grain"), (cd.E_STEEL, cd.NU_STEEL, "wall"),
-                       (1e21, cd.NU_GRAIN, "wall")])
+                       (1e21, cd.NU_GRAIN, "wall"), (E_PLATEN, cd.NU_STEEL, "wall")])
     return setup + f"""\
 timestep {dt!r}
+fix plate all mesh/surface file plate.stl type {PLATEN}
+fix platen all wall/gran model hertz tangential history mesh n_meshes 1 meshes plate
 create_atoms 1 single -0.002 0 0.0005 units box
 set atom 1 diameter {D_GRAIN!r} density {cd.DENSITY!r}
 fix bottom all wall/gran model hertz tangential history primitive type {STEEL} zplane 0.0
@@ -68,6 +72,9 @@ run 0
 CONTACT_RE = re.compile(
     r"stiffest contact (grain|fragment) \(type (\d+), r (\S+), mass (\S+)\) - (particle|wall) type (\d+): "
     r"p_max (\S+), E\* (\S+), overlap/r (\S+), k_max (\S+), omega_max dt = (\S+) \(limit dt_omega = (\S+)\)")
+
+
+PLATE = {"plate.stl": lambda path: cd.write_plate_stl(path, half=0.009, z=0.009)}
 
 
 def contact_lines(res):
@@ -98,11 +105,12 @@ def test_init_check_fragment_steel(tmp_path, sigma0, flagged):
     the smallest fragment against steel does not (omega dt 1.21 > 1): one
     warning. sigma_lim0 1.9 GPa (NE34): no warning. var 0, so p_max is
     sigma_lim of a d_comm particle."""
-    res = cd.run(init_deck(sigma0, DT), tmp_path)
+    res = cd.run(init_deck(sigma0, DT), tmp_path, files=PLATE)
     lines = contact_lines(res)
     # every pair of types: grain and fragment against the grain type and both walls
     assert set(lines) == {(c, k, t) for c in ("grain", "fragment")
-                          for k, t in (("particle", 1), ("wall", STEEL), ("wall", RIGID))}, lines.keys()
+                          for k, t in (("particle", 1), ("wall", STEEL), ("wall", RIGID),
+                                       ("wall", PLATEN))}, lines.keys()
     rf, rg = r_frag(), 0.5 * D_GRAIN
     p_f, p_g = p_unbreakable(sigma0), cd.strength(D_GRAIN, sigma0=sigma0)
     w_f = omega_max(p_f, rf, cd.sphere_mass(rf)) * DT
@@ -112,14 +120,16 @@ def test_init_check_fragment_steel(tmp_path, sigma0, flagged):
         assert v["wdt"] == pytest.approx(w, rel=1e-5), (cls, kind, t)
         assert v["p"] == pytest.approx(p, rel=1e-5)
         # overlap at p: R* (3 pi p / (4 E*))^2 with the pair's E*
-        E_q = {1: cd.E_GRAIN, STEEL: cd.E_STEEL, RIGID: 1e21}[t]
-        nu_q = cd.NU_STEEL if t == STEEL else cd.NU_GRAIN
+        E_q = {1: cd.E_GRAIN, STEEL: cd.E_STEEL, RIGID: 1e21, PLATEN: E_PLATEN}[t]
+        nu_q = cd.NU_STEEL if t in (STEEL, PLATEN) else cd.NU_GRAIN
         E_star = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_q, nu_q)
         R_star = 0.5 * r if kind == "particle" else r
         assert v["E_star"] == pytest.approx(E_star, rel=1e-5)
         assert v["overlap"] * r == pytest.approx(R_star * (3 * math.pi * p / (4 * E_star)) ** 2, rel=1e-5)
-    # the rigid plane (E 1e21) bounds nothing less than steel: same omega
-    assert lines[("fragment", "wall", RIGID)]["wdt"] == lines[("fragment", "wall", STEEL)]["wdt"]
+    # the rigid plane (E 1e21) and the mesh platen bound nothing less than
+    # steel: the same omega
+    for t in (RIGID, PLATEN):
+        assert lines[("fragment", "wall", t)]["wdt"] == lines[("fragment", "wall", STEEL)]["wdt"]
     assert w_g < 1.0
     assert not rayleigh_warnings(res)
     assert (w_f > 1.0) == flagged
@@ -130,7 +140,7 @@ def test_init_check_fragment_steel(tmp_path, sigma0, flagged):
 def test_init_check_dt_check_error(tmp_path, nprocs):
     """dt_check error turns the contact warning into an error, at 1 and 2 ranks."""
     res = cd.expect_error(init_deck(2e10, DT, "dt_check error"), tmp_path,
-                          "exceeds dt_omega / omega_max", nprocs=nprocs)
+                          "exceeds dt_omega / omega_max", nprocs=nprocs, files=PLATE)
     err = [e for e in res.errors if "dt_omega" in e][0]
     assert "fragment" in err and "reduce the time step" in err
 
@@ -139,7 +149,7 @@ def test_init_check_density_scaling(tmp_path):
     """density_scale raises the fragment's mass by (d_ref/d)^2: omega falls by
     d_ref/d and the strong deck is no longer flagged."""
     d_ref = 4.0 * 2.0 * r_frag()
-    res = cd.run(init_deck(2e10, DT, f"density_scale {d_ref!r}"), tmp_path)
+    res = cd.run(init_deck(2e10, DT, f"density_scale {d_ref!r}"), tmp_path, files=PLATE)
     rf = r_frag()
     m = cd.sphere_mass(rf) * scale_factor(2 * rf, d_ref)
     w = omega_max(p_unbreakable(2e10), rf, m) * DT
@@ -151,11 +161,11 @@ def test_init_check_density_scaling(tmp_path):
 
 def test_init_check_dt_omega_keyword(tmp_path):
     """dt_omega sets the limit: 1.3 lets the strong deck (omega dt 1.21) pass; out of range is an error."""
-    res = cd.run(init_deck(2e10, DT, "dt_omega 1.3"), tmp_path / "ok")
+    res = cd.run(init_deck(2e10, DT, "dt_omega 1.3"), tmp_path / "ok", files=PLATE)
     assert not contact_warnings(res)
     assert "omega_max dt = 1.21" in res.log and "(limit dt_omega = 1.3)" in res.log
     cd.expect_error(init_deck(2e10, DT, "dt_omega 2.5"), tmp_path / "bad",
-                    "keyword 'dt_omega' must be in (0, 2)")
+                    "keyword 'dt_omega' must be in (0, 2)", files=PLATE)
 
 
 # ---------------------------------------------------------------------------
