@@ -231,13 +231,16 @@ def test_grain_inserted_deep_is_lost_without_the_fix(tmp_path):
     assert res.errors
 
 
-def test_moderate_overlap_moves_too_far(tmp_path):
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_moderate_overlap_moves_too_far(tmp_path, nprocs):
     """Centres 1.0 r apart (overlap 1.0 r, below the overlap limit), dt 0.2
     T_R: the repulsion sends the grains off at a speed that moves them more
     than 0.1 r in one step; the run stops within the first steps, signal
-    'move', before the atoms leave the box (which takes hundreds of steps)."""
-    res = cd.expect_error(pair_deck(1.0, dt_frac=0.2, nsteps=1000), tmp_path,
-                          "fix check/stability: unstable at step")
+    'move', before the atoms leave the box (which takes hundreds of steps).
+    At 2 ranks each grain is on its own rank."""
+    res = cd.expect_error(pair_deck(1.0, processors="2 1 1" if nprocs == 2 else "* 1 1",
+                                    dt_frac=0.2, nsteps=1000), tmp_path,
+                          "fix check/stability: unstable at step", nprocs=nprocs)
     u = unstable(res)
     assert u["signal"] == "move" and 1 <= u["step"] <= 5, u
     dt = 0.2 * cd.rayleigh_time(0.5 * D_GRAIN)
