@@ -18,6 +18,7 @@ FixStyle(crush/particle,FixCrushParticle)
 
 #include <cstdio>
 #include <stdint.h>
+#include <string>
 #include <vector>
 
 #include "fix.h"
@@ -72,6 +73,8 @@ class FixCrushParticle : public Fix {
   double true_mass(int i) const;
   bool dt_check_error_;
   double dt_frac_;
+  double dt_omega_;  // limit on omega_max dt of the stiffest contact (check_timestep)
+  std::string last_contact_report_;  // stiffest-contact lines printed last (check_timestep)
   char *events_file_;
   bool events_append_;
   FILE *events_;
