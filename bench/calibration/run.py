@@ -72,6 +72,14 @@ CASES["cand_W8_s2024_D0.2"] = _triax(8, 2024, "--D-loc", "0.2", cell="periodic")
 CASES["cand_W8_s2024_rotation"] = _triax(8, 2024, "--rotation", cell="periodic")
 CASES["cand_W8_s2024_crushable"] = _triax(8, 2024, grains="crushable_ne34", cell="periodic")
 CASES["cand_W8_s2024_eps40"] = _triax(8, 2024, "--eps-a-max", "0.4", cell="periodic")
+# the contact law: PFC's incremental tangential force instead of LIGGGHTS'
+# tangential history, for the whole run (preparation included: the pair
+# style cannot be swapped with its contact history at consolidation), so
+# compared over seeds with the per_W* cases of the same size and seed
+for W in (8, 12):
+    for s in (2024, 2025, 2026):
+        CASES["tinc_W%d_s%d" % (W, s)] = _triax(W, s, "--tangential-model", "incremental",
+                                                cell="periodic")
 # the default triaxial run (examples/triaxial/run.py with no size option:
 # periodic, crushable, 12 d50, seed 2024)
 CASES["default_W12_s2024_crushable"] = _triax(12, 2024, grains="crushable_ne34", cell="periodic")

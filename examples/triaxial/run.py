@@ -123,7 +123,8 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
             "chunk": args.chunk, "thermo_every": args.thermo_every,
             "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
-            "D_loc_shear": args.D_loc, "rotation": int(args.rotation)}
+            "D_loc_shear": args.D_loc, "rotation": int(args.rotation),
+            "tangential_model": args.tangential_model}
 
 
 def run_deck(args, out, W, H, dt, dt_prep):
@@ -144,7 +145,8 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
         "wall_time_s": wall, "dt": dt, "dt_prep": dt_prep, "axial_strain_rate": args.rate,
         "inertial_number": args.rate * D50_NE34 * args.N * math.sqrt(RHO / args.sigma3),
         "p_iso": args.p_iso, "sigma3_target": args.sigma3, "D_loc": args.D_loc,
-        "rotation": bool(args.rotation), "packing_seed": args.packing_seed,
+        "rotation": bool(args.rotation), "tangential_model": args.tangential_model,
+        "packing_seed": args.packing_seed,
         "porosity_start_of_shearing": float(path["porosity"][0]),
         "prep": prep_report(args, out),
         "e_start_of_shearing": float(path["e_void"][0]),
@@ -195,6 +197,10 @@ def parse_args(argv=None):
     p.add_argument("--D-loc", type=float, default=0.05,
                    help="local damping coefficient from consolidation on (SPEC section 3: D_loc = 0.05; "
                    "the preparation keeps 0.05)")
+    p.add_argument("--tangential-model", default="history", choices=["history", "incremental"],
+                   help="tangential contact law of grain contacts and walls: LIGGGHTS' "
+                   "displacement-based 'history' (default) or PFC's force-increment "
+                   "'incremental' (docs/tangential_incremental.md), for the whole run")
     p.add_argument("--rotation", action="store_true",
                    help="let the grains rotate from consolidation on (a diagnostic: SPEC section 2 "
                    "inhibits rotation)")
