@@ -129,3 +129,21 @@ def test_energy_options_are_refused(tmp_path):
                        dt=DT, x0=0.0, z0=R - DELTA1, d=2 * R, n=N, vx=0.0, vz2=0.0, vz3=0.0)
     expect_error(deck, tmp_path, "tangential incremental: computeElasticPotential and "
                  "computeDissipatedEnergy are not available")
+
+
+def test_rolling_sphere_gets_the_torque(tmp_path):
+    # The torque of the tangential force: a sphere free to rotate (nve/sphere)
+    # rolls without slip down an incline at a = 5/7 g sin(theta), as with
+    # history (test_rotation_inhibited.py, same deck and fit).
+    import numpy as np
+    import test_rotation_inhibited as tri
+    th = math.radians(10.0)
+    deck = tri.DECK.replace("tangential history", "tangential incremental").format(
+        mu=tri.MU, r=tri.R, d=2 * tri.R, x0=0.0, g=tri.G, sx=math.sin(th), sz=-math.cos(th),
+        integrator="nve/sphere")
+    assert deck.count("tangential incremental") == 2
+    b = run_deck(deck, tmp_path, check=True).thermo[-1]
+    a = tri.fitted_acceleration(b["Time"], b["x"])
+    expected = 5.0 / 7.0 * tri.G * math.sin(th)
+    assert abs(a - expected) / expected < 0.02, (a, expected)
+    assert np.max(np.abs(b["wy"])) > 0.0
