@@ -72,6 +72,11 @@ CASES["cand_W8_s2024_D0.2"] = _triax(8, 2024, "--D-loc", "0.2", cell="periodic")
 CASES["cand_W8_s2024_rotation"] = _triax(8, 2024, "--rotation", cell="periodic")
 CASES["cand_W8_s2024_crushable"] = _triax(8, 2024, grains="crushable_ne34", cell="periodic")
 CASES["cand_W8_s2024_eps40"] = _triax(8, 2024, "--eps-a-max", "0.4", cell="periodic")
+# the contact law on the reference specimen: tangential incremental from
+# consolidation on (the preparation with history, as per_W8_s*; run at
+# 1 rank like them, so the prepared specimen is the same)
+for s in (2024, 2025, 2026):
+    CASES["cand_W8_s%d_incremental" % s] = _triax(8, s, "--incremental-shear", cell="periodic")
 # the contact law: PFC's incremental tangential force instead of LIGGGHTS'
 # tangential history, for the whole run (preparation included: the pair
 # style cannot be swapped with its contact history at consolidation), so

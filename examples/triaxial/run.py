@@ -124,10 +124,14 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "chunk": args.chunk, "thermo_every": args.thermo_every,
             "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
             "D_loc_shear": args.D_loc, "rotation": int(args.rotation),
-            "tangential_model": args.tangential_model}
+            "tangential_model": args.tangential_model,
+            "incremental_shear": int(args.incremental_shear)}
 
 
 def run_deck(args, out, W, H, dt, dt_prep):
+    if args.incremental_shear and args.cell != "periodic":
+        # in.triaxial's plates are a wall fix of their own, which the switch would not reach
+        raise SystemExit("--incremental-shear: only with --cell periodic")
     deck = "in.triaxial_periodic" if args.cell == "periodic" else "in.triaxial"
     return run_liggghts(os.path.join(HERE, deck), out,
                         liggghts_variables(args, W, H, dt, dt_prep), np=args.np,
@@ -146,6 +150,7 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
         "inertial_number": args.rate * D50_NE34 * args.N * math.sqrt(RHO / args.sigma3),
         "p_iso": args.p_iso, "sigma3_target": args.sigma3, "D_loc": args.D_loc,
         "rotation": bool(args.rotation), "tangential_model": args.tangential_model,
+        "incremental_shear": bool(args.incremental_shear),
         "packing_seed": args.packing_seed,
         "porosity_start_of_shearing": float(path["porosity"][0]),
         "prep": prep_report(args, out),
@@ -201,6 +206,10 @@ def parse_args(argv=None):
                    help="tangential contact law of grain contacts and walls: LIGGGHTS' "
                    "displacement-based 'history' (default) or PFC's force-increment "
                    "'incremental' (docs/tangential_incremental.md), for the whole run")
+    p.add_argument("--incremental-shear", action="store_true",
+                   help="periodic cell only: switch the grain contacts to 'tangential incremental' "
+                   "from consolidation on, on the specimen prepared with --tangential-model "
+                   "(a diagnostic, docs/calibration.md item 4)")
     p.add_argument("--rotation", action="store_true",
                    help="let the grains rotate from consolidation on (a diagnostic: SPEC section 2 "
                    "inhibits rotation)")
