@@ -77,6 +77,8 @@ CASES["cand_W8_s2024_eps40"] = _triax(8, 2024, "--eps-a-max", "0.4", cell="perio
 # 1 rank like them, so the prepared specimen is the same)
 for s in (2024, 2025, 2026):
     CASES["cand_W8_s%d_incremental" % s] = _triax(8, s, "--incremental-shear", cell="periodic")
+# and at the default size (per_W12_s* were run at 2 ranks: run these at 2)
+CASES["cand_W12_s2024_incremental"] = _triax(12, 2024, "--incremental-shear", cell="periodic")
 # the contact law: PFC's incremental tangential force instead of LIGGGHTS'
 # tangential history, for the whole run (preparation included: the pair
 # style cannot be swapped with its contact history at consolidation), so
