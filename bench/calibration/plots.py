@@ -206,6 +206,11 @@ def main(argv=None):
     print(plot_curves(res, [n for n in res if n.startswith("cand_W8_s2024")] + ["per_W8_s2024"],
                       a.img, "calib_candidates.png",
                       "periodic 8 d50, seed 2024: settings from consolidation on"))
+    print(plot_curves(res, ["per_W8_s2024", "cand_W8_s2024_incremental", "tinc_W8_s2024",
+                            "per_W8_s2025", "cand_W8_s2025_incremental",
+                            "per_W8_s2026", "cand_W8_s2026_incremental"],
+                      a.img, "calib_tangential.png",
+                      "periodic 8 d50: tangential history against incremental"))
     print(plot_oedometer(res, a.img))
     return 0
 
