@@ -147,3 +147,88 @@ def test_rolling_sphere_gets_the_torque(tmp_path):
     expected = 5.0 / 7.0 * tri.G * math.sin(th)
     assert abs(a - expected) / expected < 0.02, (a, expected)
     assert np.max(np.abs(b["wy"])) > 0.0
+
+
+PAIR_DECK = """
+units si
+hard_particles yes
+atom_style granular
+atom_modify map array
+boundary f f f
+newton off
+communicate single vel yes
+region box block -0.01 0.01 -0.01 0.01 -0.01 0.01
+create_box 1 box
+neighbor 0.0002 bin
+neigh_modify delay 0
+fix m1 all property/global youngsModulus peratomtype {E!r}
+fix m2 all property/global poissonsRatio peratomtype {nu!r}
+fix m3 all property/global coefficientRestitution peratomtypepair 1 1.0
+fix m4 all property/global coefficientFriction peratomtypepair 1 {mu!r}
+pair_style gran model hertz tangential {tm}
+pair_coeff * *
+timestep {dt!r}
+# the contact straddles the middle of the box (x = 0): at 2 ranks the two
+# grains are on different ranks
+create_atoms 1 single {xa!r} 0 0 units box
+create_atoms 1 single {xb!r} 0 0 units box
+set atom * diameter {d!r} density 2600
+group mover id 2
+variable fx equal fx[2]
+variable fy equal fy[2]
+variable fz equal fz[2]
+variable x2 equal x[2]
+variable y2 equal y[2]
+variable z2 equal z[2]
+variable x1 equal x[1]
+thermo_style custom step v_fx v_fy v_fz v_x1 v_x2 v_y2 v_z2
+thermo_modify lost error format float %.15g
+thermo {n}
+# 1: grain 2 slides by U along z (normal along x)
+fix mv mover move linear 0 0 {vt!r}
+run {n}
+unfix mv
+velocity all set 0 0 0
+# 2: pulled apart along the branch vector (no tangential motion) to delta_1/2
+fix mv mover move linear {vnx!r} 0 {vnz!r}
+run {n}
+"""
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_pair_contact_across_ranks(tmp_path, nprocs):
+    # Two equal grains: R* = r/2, E* and G* as for the plane above. Grain 2
+    # is moved, grain 1 is not integrated. The tangential force is the part
+    # of grain 2's force normal to the branch vector (which turns by U/d).
+    r = R
+    r_star = r / 2.0
+    fn = lambda dl: 4.0 / 3.0 * E_STAR * math.sqrt(r_star) * dl ** 1.5
+    kt = lambda dl: 8.0 * G_STAR * math.sqrt(r_star * dl)
+    f_t1 = 0.3 * MU * fn(DELTA1)
+    u = f_t1 / kt(DELTA1)
+    # after the slide the branch vector is tilted by `tilt` from x
+    tilt = math.atan2(u, 2 * r - DELTA1)
+    vn = (DELTA1 - DELTA2) / (N * DT)
+    deck = PAIR_DECK.format(E=E, nu=NU, mu=MU, tm="incremental", dt=DT, d=2 * r, n=N,
+                            xa=-(r - DELTA1 / 2), xb=r - DELTA1 / 2, vt=u / (N * DT),
+                            vnx=vn * math.cos(tilt), vnz=vn * math.sin(tilt))
+    res = run_deck(deck, tmp_path, nprocs=nprocs, check=True)
+    got = []
+    for b in res.thermo[-2:]:
+        f = [b[k][-1] for k in ("fx", "fy", "fz")]
+        br = [b["x2"][-1] - b["x1"][-1], b["y2"][-1], b["z2"][-1]]
+        L = math.sqrt(sum(c * c for c in br))
+        n = [c / L for c in br]
+        f_n = sum(a * c for a, c in zip(f, n))
+        f_t = math.sqrt(max(sum(c * c for c in f) - f_n * f_n, 0.0))
+        got.append((f_n, f_t, 2 * r - L))
+    (fn1, ft1, d1), (fn2, ft2, d2) = got
+    assert fn1 == pytest.approx(fn(d1), rel=1e-9)
+    assert d1 == pytest.approx(DELTA1, rel=1e-4)   # the slide opens it by U^2/(2d)
+    # k_t U, up to the slide's own change of overlap and direction (~1e-6)
+    assert ft1 == pytest.approx(f_t1, rel=1e-5)
+    assert fn2 == pytest.approx(fn(d2), rel=1e-9)
+    assert d2 == pytest.approx(DELTA2, rel=1e-4)
+    # kept, where history would give f_t1 k_t(delta_2)/k_t(delta_1) = f_t1/sqrt(2)
+    assert MU * fn2 > f_t1
+    assert ft2 == pytest.approx(ft1, rel=1e-9)
