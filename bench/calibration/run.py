@@ -80,7 +80,7 @@ for s in (2024, 2025, 2026):
 # control: the per_W8_s* case again with the build that has the option
 # (its history path is not bit-identical to the earlier binary's: the
 # difference of the two is the noise floor of the comparison)
-for s in (2024, 2025):
+for s in (2024, 2025, 2026):
     CASES["ctl_W8_s%d" % s] = _triax(8, s, cell="periodic")
 # and at the default size (per_W12_s* were run at 2 ranks: run these at 2)
 CASES["cand_W12_s2024_incremental"] = _triax(12, 2024, "--incremental-shear", cell="periodic")
