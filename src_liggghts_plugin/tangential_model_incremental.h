@@ -5,7 +5,8 @@
    `model hertz`, k_t = 8 G* sqrt(R* delta_n), the stiffness of PFC's Hertz
    model for equal grains) and caps it at mu |F_n|. `tangential history`
    stores the displacement instead, so its force follows k_t down when the
-   normal force falls; this one keeps the force (PFC's default, hz_mode 0).
+   normal force falls; this one keeps the force (PFC's default: its option
+   to scale the shear force down on normal unloading is off).
    The update rule itself is in crush_tangential_kernel.h.
    Use: pair_style gran model hertz tangential incremental
         fix ID all wall/gran model hertz tangential incremental ...
