@@ -113,6 +113,22 @@ function(prepare_liggghts_source src dst plugin_dir)
     "virtual void setup(int vflag) {}"
     "virtual void setup(int vflag) {}\n        virtual void setup_pre_force(int vflag) { pre_force(vflag); }")
 
+  # Contact-model combinations of our tangential models. `Make.sh models`
+  # lists only the combinations of the stock models it finds in the build
+  # copy, and pair gran / fix wall/gran instantiate exactly that list, so
+  # ours are appended here (idempotent; the build copy only).
+  set(_crush_gran_models
+    "GRAN_MODEL(HERTZ, TANGENTIAL_INCREMENTAL, COHESION_OFF, ROLLING_OFF, SURFACE_DEFAULT)")
+  file(READ "${dst}/style_contact_model.h" _gran)
+  set(_gran_new "${_gran}")
+  foreach(_m IN LISTS _crush_gran_models)
+    string(FIND "${_gran_new}" "${_m}" _have)
+    if(_have EQUAL -1)
+      string(APPEND _gran_new "${_m}\n")
+    endif()
+  endforeach()
+  _crush_write_if_changed("${dst}/style_contact_model.h" "${_gran_new}")
+
   # Style registries: every header (stock or ours) that declares the class.
   set(_styles
     "ANGLE_CLASS:angle_:angle" "ATOM_CLASS:atom_vec_:atom" "BODY_CLASS:body_:body"

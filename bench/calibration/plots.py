@@ -150,6 +150,43 @@ def plot_curves(res, names, img, fname, title):
     return path
 
 
+def plot_tangential(res, img):
+    """History (solid) against incremental from consolidation on (dashed),
+    one colour per specimen; incremental for the whole run dotted."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    groups = [("8 d50 s2024", ["per_W8_s2024", "cand_W8_s2024_incremental", "tinc_W8_s2024"]),
+              ("8 d50 s2025", ["ctl_W8_s2025", "cand_W8_s2025_incremental"]),
+              ("8 d50 s2026", ["per_W8_s2026", "cand_W8_s2026_incremental"]),
+              ("12 d50 s2024", ["per_W12_s2024", "cand_W12_s2024_incremental"])]
+    styles = ["-", "--", ":"]
+    labels = ["history", "incremental", "incremental, whole run"]
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(6, 6.5), sharex=True)
+    for i, (title, names) in enumerate(groups):
+        for k, n in enumerate(names):
+            if n not in res:
+                continue
+            cu = res[n]["curve"]
+            lab = "%s, %s" % (title, labels[k])
+            a1.plot(100 * np.array(cu["eps_a"]), cu["eta"], styles[k], lw=1, color="C%d" % i, label=lab)
+            a2.plot(100 * np.array(cu["eps_a"]), 100 * np.array(cu["eps_v"]), styles[k], lw=1,
+                    color="C%d" % i)
+    a1.axhspan(eta_of_phi(PHI_CS_BAND[0]), eta_of_phi(PHI_CS_BAND[1]), color="0.85",
+               label="NE34 φ_cs 31-33.5° (issue 14)")
+    a1.set_ylabel("q/p' (-)")
+    a1.legend(fontsize=6)
+    a1.grid(alpha=0.3)
+    a1.set_title("periodic cell, unbreakable: tangential history against incremental", fontsize=10)
+    a2.set_xlabel("axial strain ε_a (%)")
+    a2.set_ylabel("volumetric strain ε_v (%, compression +)")
+    a2.grid(alpha=0.3)
+    fig.tight_layout()
+    path = os.path.join(img, "calib_tangential.png")
+    fig.savefig(path, dpi=110)
+    return path
+
+
 def plot_oedometer(res, img):
     import matplotlib
     matplotlib.use("Agg")
@@ -206,6 +243,7 @@ def main(argv=None):
     print(plot_curves(res, [n for n in res if n.startswith("cand_W8_s2024")] + ["per_W8_s2024"],
                       a.img, "calib_candidates.png",
                       "periodic 8 d50, seed 2024: settings from consolidation on"))
+    print(plot_tangential(res, a.img))
     print(plot_oedometer(res, a.img))
     return 0
 

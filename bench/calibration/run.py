@@ -72,6 +72,26 @@ CASES["cand_W8_s2024_D0.2"] = _triax(8, 2024, "--D-loc", "0.2", cell="periodic")
 CASES["cand_W8_s2024_rotation"] = _triax(8, 2024, "--rotation", cell="periodic")
 CASES["cand_W8_s2024_crushable"] = _triax(8, 2024, grains="crushable_ne34", cell="periodic")
 CASES["cand_W8_s2024_eps40"] = _triax(8, 2024, "--eps-a-max", "0.4", cell="periodic")
+# the contact law on the reference specimen: tangential incremental from
+# consolidation on (the preparation with history, as per_W8_s*; run at
+# 1 rank like them, so the prepared specimen is the same)
+for s in (2024, 2025, 2026):
+    CASES["cand_W8_s%d_incremental" % s] = _triax(8, s, "--incremental-shear", cell="periodic")
+# control: the per_W8_s* case again with the build that has the option
+# (its history path is not bit-identical to the earlier binary's: the
+# difference of the two is the noise floor of the comparison)
+for s in (2024, 2025, 2026):
+    CASES["ctl_W8_s%d" % s] = _triax(8, s, cell="periodic")
+# and at the default size (per_W12_s* were run at 2 ranks: run these at 2)
+CASES["cand_W12_s2024_incremental"] = _triax(12, 2024, "--incremental-shear", cell="periodic")
+# the contact law: PFC's incremental tangential force instead of LIGGGHTS'
+# tangential history, for the whole run (preparation included: the pair
+# style cannot be swapped with its contact history at consolidation), so
+# compared over seeds with the per_W* cases of the same size and seed
+for W in (8, 12):
+    for s in (2024, 2025, 2026):
+        CASES["tinc_W%d_s%d" % (W, s)] = _triax(W, s, "--tangential-model", "incremental",
+                                                cell="periodic")
 # the default triaxial run (examples/triaxial/run.py with no size option:
 # periodic, crushable, 12 d50, seed 2024)
 CASES["default_W12_s2024_crushable"] = _triax(12, 2024, grains="crushable_ne34", cell="periodic")

@@ -51,7 +51,7 @@ def run_deck(args, out, R, H):
          "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
          "seed": args.seed, "dt": args.dt, "v_load": args.v_load, "sv_max": args.sv_max,
          "chunk": args.chunk, "thermo_every": args.thermo_every, "dump_every": args.dump_every,
-         "n_expand_max": args.prep_loops,
+         "n_expand_max": args.prep_loops, "tangential_model": args.tangential_model,
          "dt_prep": args.dt_prep or prep_time_step(os.path.join(out, "grains.data"))}
     if args.d_scale_ref > 0:
         v["d_scale_ref"] = args.d_scale_ref
@@ -88,7 +88,8 @@ def postprocess(args, out, wall, n0):
         psd = {"sizes": sizes, "steps": steps[pick], "sv": sv[pick], "F": F[pick]}
     load = stress["phase"] == 0
     summary = {
-        "grains": args.grains, "N": args.N, "n_particles_initial": int(n0),
+        "grains": args.grains, "tangential_model": args.tangential_model,
+        "N": args.N, "n_particles_initial": int(n0),
         "n_particles_final": int(stress["Atoms"][-1]),
         "porosity_start_of_loading": float(stress["e_void"][0] / (1 + stress["e_void"][0])),
         "e_start": float(stress["e_void"][0]), "e_min": float(stress["e_void"].min()),
@@ -125,6 +126,10 @@ def main(argv=None):
     p.add_argument("--out", default=os.path.join(REPO, "results", "oedometer"))
     p.add_argument("--np", type=int, default=2, help="MPI ranks")
     p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--tangential-model", default="history", choices=["history", "incremental"],
+                   help="tangential contact law of grain contacts and walls: LIGGGHTS' "
+                   "displacement-based 'history' (default) or PFC's force-increment "
+                   "'incremental' (docs/tangential_incremental.md)")
     p.add_argument("--N", type=float, default=39.0, help="particle up-scaling factor")
     p.add_argument("--R-d50", type=float, default=5.0, help="cell radius in d50")
     p.add_argument("--H-d50", type=float, default=8.0, help="cell height in d50")

@@ -123,10 +123,15 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
             "chunk": args.chunk, "thermo_every": args.thermo_every,
             "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
-            "D_loc_shear": args.D_loc, "rotation": int(args.rotation)}
+            "D_loc_shear": args.D_loc, "rotation": int(args.rotation),
+            "tangential_model": args.tangential_model,
+            "incremental_shear": int(args.incremental_shear)}
 
 
 def run_deck(args, out, W, H, dt, dt_prep):
+    if args.incremental_shear and args.cell != "periodic":
+        # in.triaxial's plates are a wall fix of their own, which the switch would not reach
+        raise SystemExit("--incremental-shear: only with --cell periodic")
     deck = "in.triaxial_periodic" if args.cell == "periodic" else "in.triaxial"
     return run_liggghts(os.path.join(HERE, deck), out,
                         liggghts_variables(args, W, H, dt, dt_prep), np=args.np,
@@ -144,7 +149,9 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
         "wall_time_s": wall, "dt": dt, "dt_prep": dt_prep, "axial_strain_rate": args.rate,
         "inertial_number": args.rate * D50_NE34 * args.N * math.sqrt(RHO / args.sigma3),
         "p_iso": args.p_iso, "sigma3_target": args.sigma3, "D_loc": args.D_loc,
-        "rotation": bool(args.rotation), "packing_seed": args.packing_seed,
+        "rotation": bool(args.rotation), "tangential_model": args.tangential_model,
+        "incremental_shear": bool(args.incremental_shear),
+        "packing_seed": args.packing_seed,
         "porosity_start_of_shearing": float(path["porosity"][0]),
         "prep": prep_report(args, out),
         "e_start_of_shearing": float(path["e_void"][0]),
@@ -195,6 +202,14 @@ def parse_args(argv=None):
     p.add_argument("--D-loc", type=float, default=0.05,
                    help="local damping coefficient from consolidation on (SPEC section 3: D_loc = 0.05; "
                    "the preparation keeps 0.05)")
+    p.add_argument("--tangential-model", default="history", choices=["history", "incremental"],
+                   help="tangential contact law of grain contacts and walls: LIGGGHTS' "
+                   "displacement-based 'history' (default) or PFC's force-increment "
+                   "'incremental' (docs/tangential_incremental.md), for the whole run")
+    p.add_argument("--incremental-shear", action="store_true",
+                   help="periodic cell only: switch the grain contacts to 'tangential incremental' "
+                   "from consolidation on, on the specimen prepared with --tangential-model "
+                   "(a diagnostic, docs/calibration.md item 4)")
     p.add_argument("--rotation", action="store_true",
                    help="let the grains rotate from consolidation on (a diagnostic: SPEC section 2 "
                    "inhibits rotation)")
