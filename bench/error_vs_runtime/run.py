@@ -191,11 +191,19 @@ def oedometer_args(p, out, np_):
             "--n-target", repr(s["n_target"]), "--dump-every", "0"]
 
 
+TEST_COLUMNS = ("qc", "e_void")     # thermo columns of the jacking / loading runs
+
+
 def log_particle_steps(log_path):
+    """(all, test) particle-steps of a run: every thermo block, and only the
+    blocks of the test itself (jacking or loading, not the preparation,
+    which a user can run once and reuse for several settings)."""
     with open(log_path, errors="replace") as f:
-        blocks = parse_log(f.read())
-    return sum(study.particle_steps(b["Step"], b["Atoms"]) for b in blocks
-               if "Step" in b and "Atoms" in b)
+        blocks = [b for b in parse_log(f.read()) if "Step" in b and "Atoms" in b]
+    every = sum(study.particle_steps(b["Step"], b["Atoms"]) for b in blocks)
+    test = sum(study.particle_steps(b["Step"], b["Atoms"]) for b in blocks
+               if any(c in b for c in TEST_COLUMNS))
+    return every, test
 
 
 def run_piece(p, root, np_, liggghts=None):
@@ -219,7 +227,7 @@ def run_piece(p, root, np_, liggghts=None):
                                     capture_output=True, text=True).stdout.strip()}
     log = os.path.join(out, "log.liggghts")
     if os.path.exists(log):
-        rec["particle_steps"] = log_particle_steps(log)
+        rec["particle_steps"], rec["particle_steps_test"] = log_particle_steps(log)
     summ_path = os.path.join(out, "summary.json")
     if rc != 0 or not os.path.exists(summ_path):
         rec["error"] = "driver exit status %d (see %s)" % (rc, os.path.join(out, "driver.txt"))
@@ -261,33 +269,48 @@ OEDO_METRICS = ["e_at_10MPa", "e_at_30MPa", "Br_at_30MPa"]
 
 
 def table(data):
-    """Rows of the study: cost and error of each run against the mean of its
-    reference's seeds, the reference scatter, noise flags, the Pareto front
-    (core-hours against |error| of the first metric, per scene and grains),
-    and the unbreakable / crushable ratio of steady q_c per setting."""
+    """Rows of the study, per scene and grain model: cost, and the error of
+    each run against the reference run with the same packing seed (every
+    variant uses the reference's seed, so the packing is the same and the
+    difference is the setting's), the reference's seed-to-seed scatter,
+    noise flags (|error| inside that scatter), and the Pareto front
+    (cost against |error| of the scene's first metric)."""
     runs = [r for r in data["runs"].values() if "metrics" in r]
     rows = []
     for scene, metrics in (("chamber", CHAMBER_METRICS), ("oedometer", OEDO_METRICS)):
         for grains in ("crushable_ne34", "unbreakable"):
             sel = [r for r in runs if r["scene"] == scene and r["grains"] == grains]
             refs = [r for r in sel if r["role"] in ("reference", "reference_seed")]
-            if not refs:
+            ref = [r for r in sel if r["role"] == "reference"]
+            if not ref:
                 continue
-            ref_vals = np.array([[r["metrics"].get(m, np.nan) or np.nan for m in metrics] for r in refs], float)
-            ref_mean = np.nanmean(ref_vals, axis=0)
+
+            def vec(r):
+                return [np.nan if r["metrics"].get(m) is None else r["metrics"][m] for m in metrics]
+
+            ref_vals = np.array([vec(r) for r in refs], float)
             scatter = study.seed_scatter(ref_vals) if len(refs) > 1 else np.full(len(metrics), np.nan)
-            vals = np.array([[r["metrics"].get(m, np.nan) or np.nan for m in metrics] for r in sel], float)
-            err = study.relative_error(vals, ref_mean[None, :])
+            vals = np.array([vec(r) for r in sel], float)
+            same_seed = {r["setting"]["packing_seed"]: np.array(vec(r), float) for r in refs}
+            ref0 = np.array(vec(ref[0]), float)
+            # a variant against the reference of its own seed; the second
+            # seed's reference against the first (that error is the scatter)
+            base = np.array([ref0 if r["role"] == "reference_seed" else
+                             same_seed.get(r["setting"]["packing_seed"], np.full(len(metrics), np.nan))
+                             for r in sel])
+            err = study.relative_error(vals, base)
             # cost: particle-steps at the measured rate (deterministic; the
             # wall times here carry the load of the shared cores)
             cost_h = np.array([(r.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
                                for r in sel])
-            front = study.pareto_front(cost_h, err[:, 0])
+            on_front = np.array([r["role"] != "reference_seed" for r in sel])
+            front = study.pareto_front(cost_h, np.where(on_front, err[:, 0], np.nan))
             for k, r in enumerate(sel):
                 rows.append({"name": r["name"], "scene": scene, "grains": grains, "role": r["role"],
                              "varied": r.get("varied"), "core_h": cost_h[k],
                              "core_h_measured": r["core_s"] / 3600.0,
                              "particle_steps": r.get("particle_steps"),
+                             "particle_steps_test": r.get("particle_steps_test"),
                              "values": dict(zip(metrics, vals[k].tolist())),
                              "error": dict(zip(metrics, err[k].tolist())),
                              "noise": dict(zip(metrics, study.is_noise(err[k], scatter).tolist())),
@@ -297,34 +320,62 @@ def table(data):
 
 
 def write_table(rows, path_md, path_png):
-    lines = ["| run | core-hours | particle-steps | " + " | ".join(
-        "%s (err %%)" % m for m in CHAMBER_METRICS) + " | Pareto |", "|---" * 6 + "|"]
-    for r in rows:
-        ms = list(r["values"].keys())
-        cells = []
-        for m in ms:
-            e = r["error"][m]
-            cells.append("%.4g (%s%s)" % (r["values"][m], "%+.1f" % (100 * e) if np.isfinite(e) else "-",
-                                          ", noise" if r["noise"][m] else ""))
-        lines.append("| %s | %.3g | %.3g | %s | %s |" % (r["name"], r["core_h"], r["particle_steps"] or 0,
-                                                       " | ".join(cells), "yes" if r["pareto"] else ""))
+    lines = []
+    for scene, metrics in (("chamber", CHAMBER_METRICS), ("oedometer", OEDO_METRICS)):
+        sel = [r for r in rows if r["scene"] == scene]
+        if not sel:
+            continue
+        lines += ["", "%s: value (error against the reference of the same seed, %%; "
+                  "'noise': inside the reference's seed scatter)" % scene, "",
+                  "| run | core-hours at the measured rate | measured core-hours | particle-steps "
+                  "(all / test only) | "
+                  + " | ".join(metrics) + " | Pareto |",
+                  "|---" * (len(metrics) + 5) + "|"]
+        scat = {}
+        for r in sel:
+            scat[r["grains"]] = r["reference_scatter"]
+            cells = []
+            for m in metrics:
+                v, e = r["values"][m], r["error"][m]
+                cells.append("%.4g (%s%s)" % (v, "%+.1f" % (100 * e) if np.isfinite(e) else "-",
+                                              ", noise" if r["noise"][m] else ""))
+            lines.append("| %s | %.3g | %.3g | %.3g / %.3g | %s | %s |" % (
+                r["name"], r["core_h"], r["core_h_measured"], r["particle_steps"] or 0,
+                r["particle_steps_test"] or 0,
+                " | ".join(cells), "yes" if r["pareto"] else ""))
+        for g, sc in scat.items():
+            lines.append("")
+            lines.append("%s %s reference scatter (half the seed range over the mean): %s" % (
+                scene, g, ", ".join("%s %.2g %%" % (m, 100 * v) for m, v in sc.items())))
     with open(path_md, "w") as f:
-        f.write("\n".join(lines) + "\n")
+        f.write("\n".join(lines).lstrip() + "\n")
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    for r in rows:
-        e = list(r["error"].values())[0]
-        if not np.isfinite(e):
-            continue
-        ax.loglog(r["core_h"], max(abs(e), 1e-4), "o" if r["pareto"] else "x",
-                  color="C0" if r["scene"] == "chamber" else "C1")
-        ax.annotate(r["name"].split("_", 2)[-1], (r["core_h"], max(abs(e), 1e-4)), fontsize=6)
-    ax.set_xlabel("cost (core-hours)")
-    ax.set_ylabel("|relative error| of steady q_c / e at 10 MPa (-)")
-    ax.set_title("error against cost; o: Pareto front, x: dominated", fontsize=9)
-    ax.grid(True, which="both", alpha=0.3)
+    scenes = [s for s in ("chamber", "oedometer") if any(r["scene"] == s for r in rows)]
+    fig, axes = plt.subplots(1, len(scenes), figsize=(6.5 * len(scenes), 4.8), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        sel = [r for r in rows if r["scene"] == scene]
+        m0 = (CHAMBER_METRICS if scene == "chamber" else OEDO_METRICS)[0]
+        for r in sel:
+            e = r["error"][m0]
+            if not np.isfinite(e) or r["role"] == "reference":
+                continue
+            col = "C0" if r["grains"] == "crushable_ne34" else "C1"
+            y = max(abs(e), 1e-4)
+            ax.loglog(r["core_h"], y, "o" if r["pareto"] else "x", color=col)
+            ax.annotate(r["name"].split("_", 2)[-1], (r["core_h"], y), fontsize=6)
+        for g, col in (("crushable_ne34", "C0"), ("unbreakable", "C1")):
+            sc = [r["reference_scatter"][m0] for r in sel if r["grains"] == g]
+            if sc and np.isfinite(sc[0]):
+                ax.axhline(sc[0], color=col, ls="--", lw=0.8,
+                           label="%s: reference seed scatter" % g)
+        ax.set_xlabel("cost (core-hours at %.2g particle-steps per core-second)" % RATE_PER_CORE_S)
+        ax.set_ylabel("|relative error| of %s (-)" % m0)
+        ax.set_title("%s: o Pareto front, x dominated; blue crushable, orange unbreakable" % scene,
+                     fontsize=8)
+        ax.legend(fontsize=7)
+        ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path_png, dpi=120)
     plt.close(fig)
@@ -344,6 +395,8 @@ def main(argv=None):
                     "results_smoke.json")
     ap.add_argument("--table", action="store_true",
                     help="write table.md and error_vs_cost.png from the results")
+    ap.add_argument("--recost", action="store_true",
+                    help="recount the particle-steps of the recorded runs from their logs (if still there)")
     ap.add_argument("--results", default=None, help="results file (default results.json here)")
     ap.add_argument("--work", default=os.path.join(REPO, "results", "error_vs_runtime"))
     a = ap.parse_args(argv)
@@ -361,6 +414,12 @@ def main(argv=None):
             print("%-40s %8.0f %9.2e %8.2f  %s" % (p["name"], n, ps, ch, state))
         print("left: about %.0f core-hours" % tot)
         return 0
+    if a.recost:
+        for name, r in data["runs"].items():
+            log = os.path.join(a.work + ("_smoke" if a.smoke else ""), name, "log.liggghts")
+            if os.path.exists(log):
+                r["particle_steps"], r["particle_steps_test"] = log_particle_steps(log)
+        save(path, data)
     if a.table:
         rows = table(data)
         base = os.path.splitext(path)[0]
