@@ -157,12 +157,12 @@ void BalanceGrains::command(int narg, char **arg)
   // cuts in steps that change an element's rank by at most one per
   // dimension, and exchange the elements after each step. A mesh not yet
   // spread (no run since it was defined) is cut at the next run's set-up.
-  std::vector<MultiNodeMeshParallel<3> *> meshes;
+  std::vector<AbstractMesh *> meshes;
   for (int i = 0; i < modify->nfix; i++) {
     FixMesh *fm = dynamic_cast<FixMesh *>(modify->fix[i]);
     if (!fm) continue;
     MultiNodeMeshParallel<3> *m = dynamic_cast<MultiNodeMeshParallel<3> *>(fm->mesh());
-    if (m && m->isParallel()) meshes.push_back(m);
+    if (m && m->isParallel()) meshes.push_back(fm->mesh());
   }
   comm->uniform = 0;
   int steps = 0;
@@ -208,7 +208,7 @@ void BalanceGrains::command(int narg, char **arg)
   for (size_t id = 0; id < dims.size(); id++) {
     const int d = dims[id];
     line += std::string(" ") + "xyz"[d] + ":";
-    for (size_t k = 0; k < current[d].size(); k++) line += fmt(" %.6f", current[d][k]);
+    for (size_t k = 0; k < current[d].size(); k++) line += fmt(" %.17g", current[d][k]);
   }
   if (!meshes.empty()) line += fmt(" (%.0f mesh exchange step(s))", steps);
   message(line + "\n");

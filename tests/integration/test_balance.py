@@ -112,7 +112,7 @@ def counts_in_cells(grains, box, cuts):
 def parse_cuts(log):
     (text,) = CUTS_RE.findall(log)[:1]
     cuts = {}
-    for dim, vals in re.findall(r"([xyz]):((?: [\d.]+)+)", text):
+    for dim, vals in re.findall(r"([xyz]):((?: [-+\d.eE]+)+)", text):
         cuts["xyz".index(dim)] = [float(v) for v in vals.split()]
     return cuts
 
@@ -182,7 +182,7 @@ def test_counts_within_10_percent(tmp_path, case):
 N_FIRST = 10
 SMALL = dict(nx=4, ny=2, height=0.006, dmin=6e-4, dmax=1.2e-3, nsteps=21000,
              var=0.0, mirror=True, thermo=250)
-N_BEFORE_SECOND = 9000     # second balance/grains, before the 10th event
+N_BEFORE_SECOND = 16500    # second balance/grains: after 4 events, before the 10th
 
 
 def _events_scene(workdir):
@@ -225,11 +225,17 @@ def test_first_events_same_at_1_and_balanced_ranks(tmp_path_factory, nprocs):
     # the balancing moved the cuts a long way: imbalance before >= 2 (ranks
     # without grains), after close to 1; the mesh moved in exchange steps
     out = read_out(rn.path("balance.txt"))
-    assert len(out) == 2
-    assert out[0][1] >= 2.0 and out[0][2] < 1.1, out
-    assert "mesh exchange step(s)" in rn.log
-    if nprocs == 4:
-        assert "(2 mesh exchange step(s))" in rn.log, rn.summary()
+    assert out[0][0] == 0 and out[0][1] >= 2.0 and out[0][2] < 1.1, out
+    steps = [int(v) for v in re.findall(r"\((\d+) mesh exchange step\(s\)\)", rn.log)]
+    if nprocs == 2:
+        # the cut moves from 0.5 to 0.125 of the box: one step
+        assert steps[0] == 1, rn.summary()
+    else:
+        # cuts from 0.25, 0.5, 0.75 to about 0.06, 0.125, 0.19: the last one
+        # passes two old cuts, three steps; mid-way, after 4 breaks, the
+        # fragments have moved the counts off and the cuts move again
+        assert steps[0] == 3, rn.summary()
+        assert len(out) == 2 and out[1][0] == N_BEFORE_SECOND and out[1][1] > 1.0, out
     e1, en = r1.events, rn.events
     assert len(e1["step"]) >= N_FIRST and e1["step"][N_FIRST - 1] > N_BEFORE_SECOND
     first = slice(0, N_FIRST)
@@ -241,6 +247,68 @@ def test_first_events_same_at_1_and_balanced_ranks(tmp_path_factory, nprocs):
         np.testing.assert_allclose(en[col][first], e1[col][first], rtol=0, atol=1e-9)
     # and both sides of the original x = 0 split break
     assert np.any(en["x"][first] < 0) and np.any(en["x"][first] > 0)
+
+
+# --------------------------------------------------------------------------
+# b2. a mesh wall across cuts that move by more than one sub-domain
+# --------------------------------------------------------------------------
+
+def write_strip_stl(path, box, n):
+    """The plane z = box z-lo as a strip of 2 n triangles along x."""
+    (xlo, xhi), (ylo, yhi), (z, _) = box
+    xs = np.linspace(xlo, xhi, n + 1)
+    out = ["solid strip"]
+    for a, b in zip(xs[:-1], xs[1:]):
+        for tri in (((a, ylo), (b, ylo), (b, yhi)), ((a, ylo), (b, yhi), (a, yhi))):
+            out += ["facet normal 0 0 1", "outer loop"]
+            out += [f"vertex {x!r} {y!r} {z!r}" for x, y in tri]
+            out += ["endloop", "endfacet"]
+    out.append("endsolid strip")
+    Path(path).write_text("\n".join(out) + "\n")
+
+
+def test_mesh_wall_across_moved_cuts(tmp_path_factory):
+    """Grains only in the first quarter of the box in x, falling at 2 m/s
+    onto a plate of 32 triangles spanning the box, at 4 ranks (`* 1 1`).
+    Uniform cuts put every grain on rank 0 and 8 triangles on each rank;
+    balancing puts all four sub-domains into the first quarter, so the
+    triangles of ranks 1 and 2 move two and one ranks (LIGGGHTS moves mesh
+    elements to neighbour ranks only: the command moves the cuts in steps).
+    The grains do not touch each other (gaps of 5 %), so each bounces off
+    the plate on its own: the plate's force at every thermo output equals
+    that of the same deck at 1 rank to round-off of the sum."""
+    box = ((0.0, 0.040), (0.0, 0.012), (-0.0002, 0.012))
+    grains = rsa_grains(400, ((0.0, 0.010), (0.0, 0.012), (0.0, 0.012)),
+                        lambda u: 1.0, seed=2029)
+    dt = 0.15 * cm.rayleigh_time(0.5 * D_MIN)
+    results = {}
+    for nprocs in (1, 4):
+        wd = tmp_path_factory.mktemp(f"mesh_np{nprocs}")
+        cm.write_data(wd / "grains.data", grains, box, vz=-2.0)
+        write_strip_stl(wd / "plate.stl", box, 16)
+        deck = cm.header(processors="* 1 1") + f"""\
+timestep        {dt!r}
+fix plate all mesh/surface/stress file plate.stl type 2
+fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes plate
+fix integ all nve
+thermo_style    custom step atoms f_plate[3]
+thermo_modify   format float %.17g lost error norm no
+thermo          50
+run 0
+balance/grains out balance.txt
+run 4000
+"""
+        res = harness.run_deck(deck, wd, nprocs=nprocs, check=True, timeout=300,
+                               extra_args=cm.MESH_ARGS)
+        results[nprocs] = res
+    r4 = results[4]
+    m = LINE_RE.search(r4.log)
+    assert m and float(m.group(4)) == pytest.approx(4.0) and float(m.group(8)) < 1.1, r4.summary()
+    assert "(3 mesh exchange step(s))" in r4.log, r4.summary()
+    f1 = results[1].thermo[-1]["f_plate[3]"]
+    f4 = r4.thermo[-1]["f_plate[3]"]
+    assert np.max(np.abs(f1)) > 0.0          # the grains hit the plate
+    np.testing.assert_allclose(f4, f1, rtol=1e-9, atol=1e-12 * np.max(np.abs(f1)))
 
 
 # --------------------------------------------------------------------------
