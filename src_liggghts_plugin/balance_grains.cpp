@@ -125,6 +125,7 @@ void BalanceGrains::command(int narg, char **arg)
     return;
   }
 
+  const double t_start = MPI_Wtime();
   // As write_restart: everything initialised, contact history into the
   // per-atom arrays, grains in the box and on their current ranks.
   lmp->init();
@@ -211,7 +212,9 @@ void BalanceGrains::command(int narg, char **arg)
     for (size_t k = 0; k < current[d].size(); k++) line += fmt(" %.17g", current[d][k]);
   }
   if (!meshes.empty()) line += fmt(" (%.0f mesh exchange step(s))", steps);
-  message(line + "\n");
+  double t_used = MPI_Wtime() - t_start, t_max = 0.0;
+  MPI_Allreduce(&t_used, &t_max, 1, MPI_DOUBLE, MPI_MAX, world);
+  message(line + fmt("; %.3g s\n", t_max));
 
   if (!out_file.empty() && comm->me == 0) {
     FILE *fp = fopen(out_file.c_str(), "a");
