@@ -134,6 +134,9 @@ def run_deck(a, out, tip_z0, progress=None):
         v["prep_snapshot_block"] = "snapshot_prep"
     if a.spheres == "yes":
         v["spheres_file"] = write_spheres(a, out, tip_z0)
+    if a.snapshots == "no" and a.spheres == "no" and a.vtk == "none":
+        # nothing reads the contact computes: a scene pays only for what it uses
+        v["contacts_block"] = "none"
     if progress is not None:
         # a line per preparation stage and per phase of the pile while it runs
         return run_watched(os.path.join(HERE, "in.cpt"), out, v, progress, np=a.np,
