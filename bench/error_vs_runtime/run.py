@@ -115,7 +115,7 @@ def estimate(p):
     s = p["setting"]
     N = s["N"]
     d50 = D50_1 * N
-    dt = time_step(N, s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * d50)
+    dt = setting_dt(s)
     if p["scene"] == "chamber":
         V = math.pi * (s["R_ch_over_R"] * R_PILE) ** 2 * s["H_ch"] * s["sector"] / 360.0
         steps = PREP_STEPS + s["depth"] / (s["v_push"] * dt)
@@ -163,32 +163,36 @@ def pieces(smoke=False):
     return out
 
 
+def setting_dt(s):
+    """The time step of a setting (time_step() with its N, dt_frac, d_comm
+    and density-scaling size)."""
+    return time_step(s["N"], s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * D50_1 * s["N"])
+
+
+def driver_args(p, out, np_, example):
+    """The command line of an example driver for a piece: the options the
+    chamber and the oedometer drivers share."""
+    s = p["setting"]
+    return [sys.executable, os.path.join(REPO, "examples", example, "run.py"), "--out", out,
+            "--np", str(np_), "--grains", p["grains"], "--N", repr(s["N"]),
+            "--dt", repr(setting_dt(s)), "--d-scale-ref", repr(s["d_scale_ref_d50"] * D50_1 * s["N"]),
+            "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
+            "--n-target", repr(s["n_target"])]
+
+
 def chamber_args(p, out, np_):
     s = p["setting"]
-    N = s["N"]
-    d50 = D50_1 * N
-    dt = time_step(N, s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * d50)
-    return [sys.executable, os.path.join(REPO, "examples", "cpt_demo", "run.py"), "--out", out,
-            "--np", str(np_), "--mode", "monotonic", "--grains", p["grains"], "--N", repr(N),
-            "--R-ch", repr(s["R_ch_over_R"] * R_PILE), "--H-ch", repr(s["H_ch"]),
-            "--R-pile", repr(R_PILE), "--sector", str(s["sector"]), "--dt", repr(dt),
-            "--v-push", repr(s["v_push"]), "--depth", repr(s["depth"]),
-            "--d-scale-ref", repr(s["d_scale_ref_d50"] * d50),
-            "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
-            "--n-target", repr(s["n_target"]), "--snapshots", "yes", "--spheres", "no"]
+    return driver_args(p, out, np_, "cpt_demo") + [
+        "--mode", "monotonic", "--R-ch", repr(s["R_ch_over_R"] * R_PILE), "--H-ch", repr(s["H_ch"]),
+        "--R-pile", repr(R_PILE), "--sector", str(s["sector"]), "--v-push", repr(s["v_push"]),
+        "--depth", repr(s["depth"]), "--snapshots", "yes", "--spheres", "no"]
 
 
 def oedometer_args(p, out, np_):
     s = p["setting"]
-    N = s["N"]
-    d50 = D50_1 * N
-    dt = time_step(N, s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * d50)
-    return [sys.executable, os.path.join(REPO, "examples", "oedometer", "run.py"), "--out", out,
-            "--np", str(np_), "--grains", p["grains"], "--N", repr(N), "--R-d50", repr(s["R_d50"]),
-            "--H-d50", repr(s["H_d50"]), "--dt", repr(dt), "--v-load", repr(s["v_load"]),
-            "--sv-max", repr(s["sv_max"]), "--d-scale-ref", repr(s["d_scale_ref_d50"] * d50),
-            "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
-            "--n-target", repr(s["n_target"]), "--dump-every", "0"]
+    return driver_args(p, out, np_, "oedometer") + [
+        "--R-d50", repr(s["R_d50"]), "--H-d50", repr(s["H_d50"]), "--v-load", repr(s["v_load"]),
+        "--sv-max", repr(s["sv_max"]), "--dump-every", "0"]
 
 
 TEST_COLUMNS = ("qc", "e_void")     # thermo columns of the jacking / loading runs
