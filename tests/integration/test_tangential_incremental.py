@@ -46,7 +46,8 @@ U = F_T1 / k_t(DELTA1)
 DELTA2 = DELTA1 / 2.0
 DELTA3 = DELTA1 / 4.0
 
-DECK = """
+# one grain type, hertz with the chosen tangential model (both decks below)
+_HEADER = """
 units si
 hard_particles yes
 atom_style granular
@@ -54,7 +55,7 @@ atom_modify map array
 boundary f f f
 newton off
 communicate single vel yes
-region box block -0.01 0.01 -0.01 0.01 -0.001 0.01
+region box block -0.01 0.01 -0.01 0.01 {{zlo}} 0.01
 create_box 1 box
 neighbor 0.0002 bin
 neigh_modify delay 0
@@ -65,7 +66,9 @@ fix m4 all property/global coefficientFriction peratomtypepair 1 {mu!r}
 pair_style gran model hertz tangential {tm}
 pair_coeff * *
 timestep {dt!r}
-create_atoms 1 single {x0!r} 0 {z0!r} units box
+"""
+
+DECK = _HEADER.replace("{{zlo}}", "-0.001") + """create_atoms 1 single {x0!r} 0 {z0!r} units box
 set atom 1 diameter {d!r} density 2600
 fix plane all wall/gran model hertz tangential {tm} primitive type 1 zplane 0.0
 variable fx equal fx[1]
@@ -149,26 +152,7 @@ def test_rolling_sphere_gets_the_torque(tmp_path):
     assert np.max(np.abs(b["wy"])) > 0.0
 
 
-PAIR_DECK = """
-units si
-hard_particles yes
-atom_style granular
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
-region box block -0.01 0.01 -0.01 0.01 -0.01 0.01
-create_box 1 box
-neighbor 0.0002 bin
-neigh_modify delay 0
-fix m1 all property/global youngsModulus peratomtype {E!r}
-fix m2 all property/global poissonsRatio peratomtype {nu!r}
-fix m3 all property/global coefficientRestitution peratomtypepair 1 1.0
-fix m4 all property/global coefficientFriction peratomtypepair 1 {mu!r}
-pair_style gran model hertz tangential {tm}
-pair_coeff * *
-timestep {dt!r}
-# the contact straddles the middle of the box (x = 0): at 2 ranks the two
+PAIR_DECK = _HEADER.replace("{{zlo}}", "-0.01") + """# the contact straddles the middle of the box (x = 0): at 2 ranks the two
 # grains are on different ranks
 create_atoms 1 single {xa!r} 0 0 units box
 create_atoms 1 single {xb!r} 0 0 units box
