@@ -113,6 +113,44 @@ function(prepare_liggghts_source src dst plugin_dir)
     "virtual void setup(int vflag) {}"
     "virtual void setup(int vflag) {}\n        virtual void setup_pre_force(int vflag) { pre_force(vflag); }")
 
+  # Mesh walls: every step, for every mesh, FixContactHistoryMesh::markAllContacts
+  # (called by fix wall/gran) cleared every page of the keep flags (memset of
+  # all pages, used or not) and took two page slots for every owned grain,
+  # also for the many with no triangle of that mesh in their neighbour list
+  # (nneighs 0), whose slots are never read: their contact history is empty
+  # after the page rebuild of a neighbour build (FixContactHistoryMesh::
+  # pre_force), handleContact sees only grains in a triangle's list, and
+  # cleanUpContacts, sort_contacts and n_contacts loop over nneighs or npartner
+  # (both 0). Clear only the slots handed out, and skip those grains
+  # (docs/performance.md, "Mesh walls").
+  _crush_patch("${dst}/fix_contact_history_mesh.cpp"
+    "    keeppage_[0]->reset(true);
+    intersectpage_[0]->reset(false);
+
+    for(int i = 0; i < nlocal; i++)
+    {
+      const int nneighs = fix_nneighs_->get_vector_atom_int(i);
+      keepflag_[i] = keeppage_[0]->get(nneighs);
+      intersectflag_[i] = intersectpage_[0]->get(nneighs);
+      if (!keepflag_[i] || !intersectflag_[i])
+        error->one(FLERR,\"mesh contact history overflow, boost neigh_modify one\");
+    }"
+    "    // crushable-grain package: only the slots handed out are cleared, and
+    // only grains with mesh neighbours get slots (the others' are never read)
+    keeppage_[0]->reset(false);
+    intersectpage_[0]->reset(false);
+
+    for(int i = 0; i < nlocal; i++)
+    {
+      const int nneighs = fix_nneighs_->get_vector_atom_int(i);
+      if (nneighs == 0) continue;
+      keepflag_[i] = keeppage_[0]->get(nneighs);
+      intersectflag_[i] = intersectpage_[0]->get(nneighs);
+      if (!keepflag_[i] || !intersectflag_[i])
+        error->one(FLERR,\"mesh contact history overflow, boost neigh_modify one\");
+      for(int j = 0; j < nneighs; j++) keepflag_[i][j] = false;
+    }")
+
   # Contact-model combinations of our tangential models. `Make.sh models`
   # lists only the combinations of the stock models it finds in the build
   # copy, and pair gran / fix wall/gran instantiate exactly that list, so

@@ -71,7 +71,8 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
   count_pending_(false), count_local_(0), count_all_(0),
   margin_skip_(true), full_scan_pending_(true), scanned_since_full_(0.0),
-  lists_scanned_(0.0), lists_total_(0.0),
+  lists_scanned_(0.0), lists_total_(0.0), last_scan_full_(true), wall_scan_(0), wall_full_scan_(0),
+  walls_D2_(0.0),
   n_events_(0), n_created_(0), fines_mass_(0), mass0_(0), integral0_(0),
   initialized_(false), maxtag_ever_(0), natoms_counted_(0), time_offset_(0.0), restart_time_(0.0),
   restart_time_pending_(false), cache_step_(-1),
@@ -588,15 +589,22 @@ void FixCrushParticle::find_candidates_pairs()
               scanned_since_full_ >= 1.0;
   double D2 = 0.0;
   if (!full) {
+    // every step over owned and ghost particles: kept free of branches and
+    // early exits (LAMMPS stores x contiguously, x[k] = x[0] + 3 k)
+    const double *xk = x[0];
+    const double *x0 = &x0_[0];
+    double *d2v = &d2_[0];
+    int changed = 0;
     for (int k = 0; k < nall; k++) {
-      const double dx = x[k][0] - x0_[3 * k], dy = x[k][1] - x0_[3 * k + 1],
-                   dz = x[k][2] - x0_[3 * k + 2];
+      const double dx = xk[3 * k] - x0[3 * k], dy = xk[3 * k + 1] - x0[3 * k + 1],
+                   dz = xk[3 * k + 2] - x0[3 * k + 2];
       const double d2 = dx * dx + dy * dy + dz * dz;
-      if (k < nlocal) d2_[k] = d2;  // only owned particles have lists
-      if (d2 > D2) D2 = d2;
+      d2v[k] = d2;
+      D2 = d2 > D2 ? d2 : D2;
       // a radius changed (e.g. fix adapt): the limit overlaps changed too
-      if (radius[k] != r0_[k]) { full = true; break; }
+      changed |= (radius[k] != r0_[k]);
     }
+    if (changed) full = true;
   }
   if (full && margin_skip_) {
     x0_.resize(3 * nall);
@@ -610,6 +618,7 @@ void FixCrushParticle::find_candidates_pairs()
   }
   if (margin_skip_ && (int)margin_.size() < atom->nlocal) margin_.resize(atom->nmax, 0.0);
   full_scan_pending_ = false;
+  last_scan_full_ = full;
 
   const double D = sqrt(D2);
   int scanned = 0;
@@ -687,6 +696,19 @@ void FixCrushParticle::find_candidates_walls()
   const int *type = atom->type;
   const int nlocal = atom->nlocal;
   double delta_vec[3];
+  // with margin_skip: new references with the pair scan's, else the
+  // particles whose wall margins may be used up are looked at again
+  // (the pair scan sized d2_ to the particles present if it ran)
+  const bool skip_on = margin_skip_ && (int)d2_.size() >= nlocal;
+  const bool full = wall_references(!skip_on || last_scan_full_);
+  if (skip_on) {
+    if ((int)wall_margin_.size() < nlocal) {
+      wall_margin_.resize(atom->nmax, 0.0);
+      wall_stamp_.resize(atom->nmax, -1);
+    }
+    wall_scan_++;
+    if (full) wall_full_scan_ = wall_scan_;
+  }
 
   for (size_t w = 0; w < walls_.size(); w++) {
     FixWallGran *wall = walls_[w];
@@ -703,14 +725,17 @@ void FixCrushParticle::find_candidates_walls()
           for (size_t c = 0; c < cl.size(); c++) {
             const int i = cl[c];
             if (i >= nlocal || !eligible(i)) continue;
+            if (!full && wall_skip(i)) continue;
             int barysign;
             const double deltan = mesh->resolveTriSphereContact(i, t, radius[i], x[i], delta_vec, barysign);
+            const double Es = E_star(type[i], wtype);
+            const double lim = limit_overlap(crush_[i][0], radius[i], Es);
+            // particles near the mesh but not touching it count with their gap
+            if (skip_on) wall_margin_update(i, lim + deltan);
             if (deltan >= 0.0) continue;
             // contacts at shared edges are seen once per triangle with the
             // same overlap: harmless for a maximum
-            const double Es = E_star(type[i], wtype);
-            if (-deltan >= limit_overlap(crush_[i][0], radius[i], Es))
-              consider(i, -deltan, radius[i], Es, PARTNER_WALL);
+            if (-deltan >= lim) consider(i, -deltan, radius[i], Es, PARTNER_WALL);
           }
         }
       }
@@ -723,13 +748,87 @@ void FixCrushParticle::find_candidates_walls()
       for (int k = 0; k < n; k++) {
         const int i = nb[k];
         if (i >= nlocal || !(atom->mask[i] & wall->groupbit) || !eligible(i)) continue;
+        if (!full && wall_skip(i)) continue;
         const double deltan = pw->resolveContact(x[i], radius[i], delta_vec);
-        if (deltan >= 0.0) continue;
         const double Es = E_star(type[i], wtype);
-        if (-deltan >= limit_overlap(crush_[i][0], radius[i], Es))
-          consider(i, -deltan, radius[i], Es, PARTNER_WALL);
+        const double lim = limit_overlap(crush_[i][0], radius[i], Es);
+        if (skip_on) wall_margin_update(i, lim + deltan);
+        if (deltan >= 0.0) continue;
+        if (-deltan >= lim) consider(i, -deltan, radius[i], Es, PARTNER_WALL);
       }
     }
+  }
+}
+
+/* ----------------------------------------------------------------------
+   Reference node positions of the mesh walls (full: take them now) and the
+   largest squared node displacement since, walls_D2_. A point of a triangle
+   is a fixed barycentric mix of its nodes, so it moved at most as far as the
+   farthest of them. Primitive walls do not move along their normal. Returns
+   whether the wall scan must be full: asked to, or the triangles changed
+   (they migrate only with a neighbour-list build, which forces a full scan).
+------------------------------------------------------------------------- */
+
+bool FixCrushParticle::wall_references(bool full)
+{
+  if (full && !margin_skip_) return true;
+  size_t n = 0;
+  for (size_t w = 0; w < walls_.size(); w++)
+    if (walls_[w]->is_mesh_wall())
+      for (int im = 0; im < walls_[w]->n_meshes(); im++) {
+        TriMesh *mesh = walls_[w]->mesh_list()[im]->triMesh();
+        n += 9 * (size_t)(mesh->sizeLocal() + mesh->sizeGhost());
+      }
+  if (n != mesh_x0_.size()) full = true;
+  if (full) mesh_x0_.resize(n);
+  double D2 = 0.0;
+  size_t off = 0;
+  for (size_t w = 0; w < walls_.size(); w++) {
+    if (!walls_[w]->is_mesh_wall()) continue;
+    for (int im = 0; im < walls_[w]->n_meshes(); im++) {
+      TriMesh *mesh = walls_[w]->mesh_list()[im]->triMesh();
+      const int ntri = mesh->sizeLocal() + mesh->sizeGhost();
+      for (int t = 0; t < ntri; t++)
+        for (int a = 0; a < 3; a++, off += 3) {
+          double p[3];
+          mesh->node(t, a, p);
+          if (full) {
+            mesh_x0_[off] = p[0]; mesh_x0_[off + 1] = p[1]; mesh_x0_[off + 2] = p[2];
+          } else {
+            const double dx = p[0] - mesh_x0_[off], dy = p[1] - mesh_x0_[off + 1],
+                         dz = p[2] - mesh_x0_[off + 2];
+            D2 = std::max(D2, dx * dx + dy * dy + dz * dz);
+          }
+        }
+    }
+  }
+  walls_D2_ = full ? 0.0 : D2;
+  return full;
+}
+
+// May particle i's wall contacts be skipped in this (partial) scan? Decided
+// on the margin stored before the scan, if it was stored since the last full
+// scan (the present references); once its contacts are being looked at
+// again (stamp), every visit of them is.
+bool FixCrushParticle::wall_skip(int i)
+{
+  const int stamp = wall_stamp_[i];
+  if (stamp == wall_scan_ || stamp < wall_full_scan_) return false;
+  return margin_holds(d2_[i], walls_D2_, wall_margin_[i]);
+}
+
+// Margin of one wall contact of particle i (limit overlap less overlap, or
+// plus the gap), stored less how far i and the walls moved since the
+// references, so that it is tested against the motion since x0_ later (as
+// FixCrushParticle::pairs_scan stores a list's margin).
+void FixCrushParticle::wall_margin_update(int i, double margin)
+{
+  const double m = margin - sqrt(d2_[i]) - sqrt(walls_D2_);
+  if (wall_stamp_[i] != wall_scan_) {
+    wall_stamp_[i] = wall_scan_;
+    wall_margin_[i] = m;
+  } else if (m < wall_margin_[i]) {
+    wall_margin_[i] = m;
   }
 }
 

@@ -111,6 +111,20 @@ class FixCrushParticle : public Fix {
   std::vector<double> margin_;        // per owned particle: margin of its list
   void pairs_scan(int i, double D);
   std::vector<class FixWallGran *> walls_;
+  // The same skip for wall contacts: per owned particle the margin of its
+  // wall contacts (stored less the motion since x0_ at its scan), the
+  // reference node positions of every mesh wall (local and ghost triangles)
+  // and the largest node displacement since (walls_D2_). A particle's wall
+  // contacts are all looked at again once any of them may be at its limit.
+  bool last_scan_full_;           // the pair scan of this step took new references
+  std::vector<double> wall_margin_;
+  std::vector<int> wall_stamp_;   // scan in which the margin was reset
+  int wall_scan_, wall_full_scan_;  // this scan, the last full one
+  std::vector<double> mesh_x0_;   // nodes of every mesh triangle at the reference
+  double walls_D2_;
+  bool wall_references(bool full);
+  bool wall_skip(int i);
+  void wall_margin_update(int i, double margin);
 
   // Contacts over the limit found at the end of a step, broken in the next
   // pre_exchange (atoms can be created and deleted only there).

@@ -59,3 +59,87 @@ def test_mesh_force_at_setup_is_not_double_counted(tmp_path, nprocs):
     # at the set-up of a following run: the last summed total, not twice it
     assert runs[1][0] == runs[0][-1], (runs[1][0], runs[0][-1])
     assert runs[2][0] == runs[1][-1], (runs[2][0], runs[1][-1])
+
+
+# ---------------------------------------------------------------------------
+# FixContactHistoryMesh::markAllContacts (the build's speed patch: only the
+# slots of grains with mesh neighbours are cleared and handed out). The
+# tangential history of a grain-mesh contact must grow by k_t v dt per step
+# while the contact lasts (also across the set-up of a following run) and be
+# deleted when the grain leaves the plate, even when no neighbour-list build
+# comes in between (that is what the cleared keep flags do). Scene: one grain
+# held at a fixed overlap (not integrated) on a plate that slides at speed v,
+# lifted by less than half the skin and put back by fix move; grains far from
+# the plate (no mesh neighbour) and one near it without contact around it.
+# Mindlin: k_t = 8 G* sqrt(R delta), G* = 1 / (2 (2 - nu1)(1 + nu1)/E1 +
+# 2 (2 - nu2)(1 + nu2)/E2) (LIGGGHTS' Geff); the viscous part gamma_t v is
+# constant at constant v.
+# ---------------------------------------------------------------------------
+
+V_SLIDE = 0.01
+DT_SLIDE = 1e-8
+V_LIFT, LIFT_STEPS = 10.0, 300     # lifted by 3e-5 m < skin / 2: no list build
+
+
+def slide_deck():
+    return cm.header(processors="* * *") + f"""\
+timestep        {DT_SLIDE!r}
+group           held id 1
+group           free id > 1
+fix             top all mesh/surface/stress file plate.stl type 2
+fix             walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes top
+fix             slide all move/mesh mesh top linear {V_SLIDE!r} 0 0
+fix             integ free nve
+thermo_style    custom step f_top[1] f_top[3]
+thermo_modify   format float %.15g lost error
+thermo          10
+run             100
+run             100
+fix             lift held move linear 0 0 {V_LIFT!r}
+run             {LIFT_STEPS}
+unfix           lift
+fix             lower held move linear 0 0 {-V_LIFT!r}
+run             {LIFT_STEPS}
+unfix           lower
+velocity        held set 0 0 0
+run             100
+"""
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_mesh_contact_history_lives_and_dies_with_the_contact(tmp_path, nprocs):
+    r = D / 2
+    box = ((-2e-3, 2e-3), (-2e-3, 2e-3), (-1e-3, 3e-3))
+    grains = [(0.8e-3, -0.5e-3, r - DELTA, D),               # on the plate
+              (-1.0e-3, 1.0e-3, r + 0.5e-4, D)]              # within the skin, no contact
+    grains += [(x, y, 2.0e-3, D) for x in (-1.5e-3, 0.0, 1.5e-3) for y in (-1.5e-3, 1.5e-3)]  # far
+    cm.write_data(tmp_path / "grains.data", grains, box)
+    cm.write_plate_stl(tmp_path / "plate.stl", -2e-3, 2e-3, -2e-3, 2e-3)
+    res = harness.run_deck(slide_deck(), tmp_path, nprocs=nprocs, extra_args=cm.MESH_ARGS, check=True)
+    # no neighbour-list build while the grain goes up and down (runs 3, 4)
+    builds = [int(line.split("=")[1]) for line in res.log.splitlines()
+              if line.startswith("Neighbor list builds")]
+    assert len(builds) == 5 and builds[2] == 0 and builds[3] == 0, builds
+    runs = [b for b in res.thermo]
+    assert len(runs) == 5, res.summary()
+    fx = [np.abs(np.asarray(b["top[1]"])) for b in runs]
+
+    g_star = 1.0 / (2 * (2 - cm.NU_GRAIN) * (1 + cm.NU_GRAIN) / cm.E_GRAIN
+                    + 2 * (2 - cm.NU_WALL) * (1 + cm.NU_WALL) / cm.E_WALL)
+    k_t = 8.0 * g_star * math.sqrt(r * DELTA)
+    per_step = k_t * V_SLIDE * DT_SLIDE
+    # first run: the history grows by k_t v dt per step (the set-up row of a
+    # run's first contact has neither the elastic nor the viscous part yet)
+    np.testing.assert_allclose(np.diff(fx[0][1:]), 10 * per_step, rtol=1e-6)
+    # across the set-up of the next run it is kept (no update at set-up)
+    assert fx[1][0] == fx[0][-1]
+    np.testing.assert_allclose(np.diff(fx[1]), 10 * per_step, rtol=1e-6)
+    # lifted off (after the first rows): no contact, no force
+    assert np.all(fx[2][2:] == 0.0), fx[2]
+    # back on the plate: a new contact whose history started from nothing
+    # when it formed on the way down (at most a few dozen steps before the
+    # end of the lowering); a history kept from before would carry the
+    # 200 steps of the first two runs
+    n_back = fx[4][-1] / per_step
+    n_first = fx[0][-1] / per_step
+    assert n_first < n_back < n_first + 40, (n_first, n_back)
