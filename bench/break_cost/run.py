@@ -95,33 +95,13 @@ def parse_segments(path):
     """Loop times, time breakdowns and neighbour builds summed over the run
     commands of a log; every thermo row (rows repeated at a segment boundary
     add nothing to particle_steps)."""
-    out = {"loop_s": 0.0, "steps": 0, "breakdown_s": {}, "neigh_builds": 0, "thermo": [], "runs": 0}
-    header = None
-    with open(path) as fh:
-        for line in fh:
-            m = overhead.LOOP_RE.match(line)
-            if m:
-                out["loop_s"] += float(m.group(1))
-                out["steps"] += int(m.group(3))
-                out["runs"] += 1
-                header = None
-                continue
-            m = overhead.BREAKDOWN_RE.match(line)
-            if m:
-                out["breakdown_s"][m.group(1)] = out["breakdown_s"].get(m.group(1), 0.0) + float(m.group(2))
-                continue
-            if line.startswith("Neighbor list builds"):
-                out["neigh_builds"] += int(line.split("=")[1])
-                continue
-            w = line.split()
-            if w and w[0] == "Step":
-                header = w
-                continue
-            if header and len(w) == len(header):
-                try:
-                    out["thermo"].append(dict(zip(header, [float(x) for x in w])))
-                except ValueError:
-                    header = None
+    runs, thermo = overhead.parse_log_runs(path)
+    out = {"loop_s": sum(r["loop_s"] for r in runs), "steps": sum(r["steps"] for r in runs),
+           "neigh_builds": sum(r["neigh_builds"] or 0 for r in runs), "thermo": thermo, "runs": len(runs),
+           "breakdown_s": {}}
+    for r in runs:
+        for k, v in r["breakdown_s"].items():
+            out["breakdown_s"][k] = out["breakdown_s"].get(k, 0.0) + v
     return out
 
 

@@ -209,21 +209,25 @@ LOOP_RE = re.compile(r"^Loop time of (\S+) on (\d+) procs for (\d+) steps with (
 BREAKDOWN_RE = re.compile(r"^(Pair|Neigh|Comm|Outpt|Modify|Other)\s+time \(%\) = (\S+) \((\S+)\)")
 
 
-def parse_log(path):
-    """Loop time, time breakdown and the thermo rows of the (single) run."""
-    out = {"loop_s": None, "breakdown_s": {}, "thermo": []}
+def parse_log_runs(path):
+    """Every run command of a log: [{loop_s, procs, steps, atoms, breakdown_s,
+    neigh_builds}], and every thermo row of the log."""
+    runs, thermo = [], []
     header = None
     with open(path) as fh:
         for line in fh:
             m = LOOP_RE.match(line)
             if m:
-                out["loop_s"] = float(m.group(1))
-                out["procs"], out["steps"], out["atoms"] = int(m.group(2)), int(m.group(3)), int(m.group(4))
+                runs.append({"loop_s": float(m.group(1)), "procs": int(m.group(2)), "steps": int(m.group(3)),
+                             "atoms": int(m.group(4)), "breakdown_s": {}, "neigh_builds": None})
                 header = None
                 continue
             m = BREAKDOWN_RE.match(line)
-            if m:
-                out["breakdown_s"][m.group(1)] = float(m.group(2))
+            if m and runs:
+                runs[-1]["breakdown_s"][m.group(1)] = float(m.group(2))
+                continue
+            if line.startswith("Neighbor list builds") and runs:
+                runs[-1]["neigh_builds"] = int(line.split("=")[1])
                 continue
             w = line.split()
             if w and w[0] == "Step":
@@ -231,9 +235,17 @@ def parse_log(path):
                 continue
             if header and len(w) == len(header):
                 try:
-                    out["thermo"].append(dict(zip(header, [float(x) for x in w])))
+                    thermo.append(dict(zip(header, [float(x) for x in w])))
                 except ValueError:
                     header = None
+    return runs, thermo
+
+
+def parse_log(path):
+    """Loop time and time breakdown of the last run, and the thermo rows."""
+    runs, thermo = parse_log_runs(path)
+    out = dict(runs[-1]) if runs else {"loop_s": None, "breakdown_s": {}}
+    out["thermo"] = thermo
     return out
 
 
