@@ -115,9 +115,10 @@ def write_data(path, grains, box, ntypes=2, vz=None):
     Path(path).write_text("\n".join(lines) + "\n")
 
 
-def header(boundary="f f f", processors="* 1 1", skin=1e-4):
-    """Units, atom style, material tables (2 types: grain, wall), Hertz pair
-    style with Mindlin tangential history, no rolling (`fix nve` only)."""
+def preamble(boundary="f f f"):
+    """The lines every granular test deck starts with: SI units, moduli above
+    1e9 Pa (hard_particles), granular atoms with an atom map, newton off (fix
+    crush/particle tests the contacts of owned grains), ghost velocities."""
     return f"""\
 units           si
 hard_particles  yes
@@ -126,6 +127,13 @@ atom_modify     map array
 boundary        {boundary}
 newton          off
 communicate     single vel yes
+"""
+
+
+def header(boundary="f f f", processors="* 1 1", skin=1e-4):
+    """Units, atom style, material tables (2 types: grain, wall), Hertz pair
+    style with Mindlin tangential history, no rolling (`fix nve` only)."""
+    return preamble(boundary) + f"""\
 processors      {processors}
 read_data       grains.data
 neighbor        {skin!r} bin

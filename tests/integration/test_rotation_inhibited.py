@@ -9,21 +9,14 @@ import math
 import numpy as np
 import pytest
 
+import crush_multi as cm
 from harness import run_deck
 
 G = 9.81
 MU = 0.275
 R = 0.5e-3
 
-DECK = """
-units si
-hard_particles yes
-atom_style granular
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
-region box block -0.05 0.05 -0.01 0.01 -0.001 0.01
+DECK = "\n" + cm.preamble() + """region box block -0.05 0.05 -0.01 0.01 -0.001 0.01
 create_box 2 box
 neighbor 0.0002 bin
 neigh_modify delay 0

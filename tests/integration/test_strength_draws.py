@@ -33,6 +33,7 @@ import pytest
 from scipy import optimize, stats
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import crush_multi as cm  # noqa: E402
 import harness  # noqa: E402
 
 SIGMA0 = 1.9e9
@@ -59,14 +60,7 @@ def _groups():
     return "\n".join(lines)
 
 
-DECK = f"""\
-units           si
-hard_particles  yes
-atom_style      granular
-atom_modify     map array
-boundary        f f f
-newton          off
-communicate     single vel yes
+DECK = cm.preamble() + f"""\
 processors      * 1 1
 region          box block 0 {NSIDE * PITCH - PITCH / 2!r} 0 {NSIDE * PITCH - PITCH / 2!r} 0 {NSIDE * PITCH - PITCH / 2!r} units box
 create_box      1 box

@@ -18,6 +18,7 @@ import math
 
 import pytest
 
+import crush_multi as cm
 from harness import expect_error, run_deck
 
 E = 21.6e9
@@ -47,15 +48,7 @@ DELTA2 = DELTA1 / 2.0
 DELTA3 = DELTA1 / 4.0
 
 # one grain type, hertz with the chosen tangential model (both decks below)
-_HEADER = """
-units si
-hard_particles yes
-atom_style granular
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
-region box block -0.01 0.01 -0.01 0.01 {{zlo}} 0.01
+_HEADER = "\n" + cm.preamble() + """region box block -0.01 0.01 -0.01 0.01 {{zlo}} 0.01
 create_box 1 box
 neighbor 0.0002 bin
 neigh_modify delay 0
