@@ -14,8 +14,8 @@
 #include "crush_breakage_kernel.h"
 #include "crush_energy_kernel.h"
 #include "crush_fragment_kernel.h"
+#include "crush_wall_contacts.h"
 #include "fix_mesh_surface.h"
-#include "fix_neighlist_mesh.h"
 #include "fix_wall_gran.h"
 #include "neigh_list.h"
 #include "pair.h"
@@ -60,43 +60,60 @@ void CrushEnergy::init(Pair *pair, const std::vector<FixWallGran *> &walls, cons
   }
 }
 
+/* ----------------------------------------------------------------------
+   Every particle pair of the granular pair list in contact, for
+   total_elastic and break_energies: for each pair with keep(i, j) true and
+   overlap delta > 0, visit(i, j, delta, U) with U the contact's elastic
+   energy (normal Hertz plus the history spring, crush_energy_kernel.h).
+------------------------------------------------------------------------- */
+
+template <class Keep, class Visit>
+void CrushEnergy::each_pair_contact(Keep keep, Visit visit)
+{
+  NeighList *list = pair_ ? pair_->list : NULL;
+  if (!list) return;
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  NeighList *hl = pair_->listgranhistory;
+  const int dnum = static_cast<PairGran *>(pair_)->dnum();
+  for (int ii = 0; ii < list->inum; ii++) {
+    const int i = list->ilist[ii];
+    const int *jlist = list->firstneigh[i];
+    const double *hist = (hl && shear_offset_ >= 0) ? hl->firstdouble[i] : NULL;
+    for (int jj = 0; jj < list->numneigh[i]; jj++) {
+      const int j = jlist[jj] & NEIGHMASK;
+      if (!keep(i, j)) continue;
+      const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+      const double delta = radius[i] + radius[j] - sqrt(dx * dx + dy * dy + dz * dz);
+      if (!(delta > 0.0)) continue;
+      double s2 = 0.0;
+      if (hist) {
+        const double *s = &hist[dnum * jj + shear_offset_];
+        s2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
+      }
+      visit(i, j, delta,
+            contact_elastic_energy(delta, effective_radius(radius[i], radius[j]), Es(type[i], type[j]),
+                                   Gs(type[i], type[j]), s2));
+    }
+  }
+}
+
 /* ---------------------------------------------------------------------- */
 
 double CrushEnergy::total_elastic(int groupbit)
 {
-  double **x = atom->x;
   const double *radius = atom->radius;
   const int *type = atom->type;
   const int *mask = atom->mask;
   const int nlocal = atom->nlocal;
   double U = 0.0;
 
-  NeighList *list = pair_ ? pair_->list : NULL;
-  if (list) {
-    NeighList *hl = pair_->listgranhistory;
-    const int dnum = static_cast<PairGran *>(pair_)->dnum();
-    for (int ii = 0; ii < list->inum; ii++) {
-      const int i = list->ilist[ii];
-      const int *jlist = list->firstneigh[i];
-      const double *hist = (hl && shear_offset_ >= 0) ? hl->firstdouble[i] : NULL;
-      for (int jj = 0; jj < list->numneigh[i]; jj++) {
-        const int j = jlist[jj] & NEIGHMASK;
-        if (!(mask[i] & groupbit) && !(mask[j] & groupbit)) continue;
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        const double delta = radius[i] + radius[j] - sqrt(dx * dx + dy * dy + dz * dz);
-        if (!(delta > 0.0)) continue;
-        double s2 = 0.0;
-        if (hist) {
-          const double *s = &hist[dnum * jj + shear_offset_];
-          s2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
-        }
-        // newton off: a pair with a ghost is in the lists of both ranks
-        const double w = (j < nlocal) ? 1.0 : 0.5;
-        U += w * contact_elastic_energy(delta, effective_radius(radius[i], radius[j]), Es(type[i], type[j]),
-                                        Gs(type[i], type[j]), s2);
-      }
-    }
-  }
+  each_pair_contact([&](int i, int j) { return (mask[i] & groupbit) || (mask[j] & groupbit); },
+                    [&](int, int j, double, double U_c) {
+                      // newton off: a pair with a ghost is in the lists of both ranks
+                      U += ((j < nlocal) ? 1.0 : 0.5) * U_c;
+                    });
   std::vector<WallHit> hits;
   wall_hits(NULL, groupbit, &hits);
   for (size_t b = 0, e; b < hits.size(); b = e) {
@@ -118,52 +135,15 @@ double CrushEnergy::total_elastic(int groupbit)
 
 void CrushEnergy::wall_hits(const std::vector<int> *want, int groupbit, std::vector<WallHit> *hits)
 {
-  double **x = atom->x;
-  const double *radius = atom->radius;
   const int *mask = atom->mask;
-  const int nlocal = atom->nlocal;
-  double dv[3];
   hits->clear();
-  for (size_t w = 0; w < walls_.size(); w++) {
-    FixWallGran *wall = walls_[w];
-    if (wall->is_mesh_wall()) {
-      for (int im = 0; im < wall->n_meshes(); im++) {
-        FixMeshSurface *fm = wall->mesh_list()[im];
-        TriMesh *mesh = fm->triMesh();
-        FixNeighlistMesh *nl = fm->meshNeighlist();
-        if (!nl) continue;
-        const int wtype = fm->atomTypeWall();
-        const int ntri = mesh->sizeLocal() + mesh->sizeGhost();
-        for (int t = 0; t < ntri; t++) {
-          const std::vector<int> &cl = nl->get_contact_list(t);
-          for (size_t c = 0; c < cl.size(); c++) {
-            const int i = cl[c];
-            if (i >= nlocal || !(mask[i] & groupbit) || (want && (*want)[i] < 0)) continue;
-            int barysign;
-            const double dn = mesh->resolveTriSphereContact(i, t, radius[i], x[i], dv, barysign);
-            if (dn >= 0.0) continue;
-            WallHit h = {i, (int)w, im, t, wtype, dn};
-            hits->push_back(h);
-          }
-        }
-      }
-    } else {
-      PrimitiveWall *pw = wall->primitiveWall();
-      if (!pw) continue;
-      const int wtype = wall->atom_type_wall();
-      int *nb;
-      const int n = pw->getNeighbors(nb);
-      for (int k = 0; k < n; k++) {
-        const int i = nb[k];
-        if (i >= nlocal || !(mask[i] & wall->groupbit) || !(mask[i] & groupbit) || (want && (*want)[i] < 0))
-          continue;
-        const double dn = pw->resolveContact(x[i], radius[i], dv);
-        if (dn >= 0.0) continue;
-        WallHit h = {i, (int)w, -1, -1, wtype, dn};
+  for_each_wall_neighbour(
+      walls_, atom, [&](int i) { return (mask[i] & groupbit) && !(want && (*want)[i] < 0); },
+      [&](int i, int w, int im, int t, int wtype, double dn) {
+        if (dn >= 0.0) return;
+        WallHit h = {i, w, im, t, wtype, dn};
         hits->push_back(h);
-      }
-    }
-  }
+      });
   std::sort(hits->begin(), hits->end());
 }
 
@@ -247,43 +227,21 @@ void CrushEnergy::break_energies(const std::vector<int> &parents, const std::vec
   };
   std::vector<std::vector<Partner> > partners(np);
 
-  NeighList *list = pair_ ? pair_->list : NULL;
-  if (list) {
-    NeighList *hl = pair_->listgranhistory;
-    const int dnum = static_cast<PairGran *>(pair_)->dnum();
-    for (int ii = 0; ii < list->inum; ii++) {
-      const int i = list->ilist[ii];
-      const int *jlist = list->firstneigh[i];
-      const double *hist = (hl && shear_offset_ >= 0) ? hl->firstdouble[i] : NULL;
-      for (int jj = 0; jj < list->numneigh[i]; jj++) {
-        const int j = jlist[jj] & NEIGHMASK;
-        const int ki = slot[i], kj = (j < nlocal) ? slot[j] : -1;
-        if (ki < 0 && kj < 0) continue;
-        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
-        const double delta = radius[i] + radius[j] - sqrt(dx * dx + dy * dy + dz * dz);
-        if (!(delta > 0.0)) continue;
-        double s2 = 0.0;
-        if (hist) {
-          const double *s = &hist[dnum * jj + shear_offset_];
-          s2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
-        }
-        const double U = contact_elastic_energy(delta, effective_radius(radius[i], radius[j]),
-                                                Es(type[i], type[j]), Gs(type[i], type[j]), s2);
-        const bool both = is_parent[i] && is_parent[j];
-        const double w = both ? 0.5 : 1.0;
-        if (ki >= 0) {
-          (*E_before)[ki] += w * U;
-          Partner p = {{x[j][0], x[j][1], x[j][2]}, radius[j], type[j], tag[j], is_parent[j] != 0};
-          partners[ki].push_back(p);
-        }
-        if (kj >= 0) {
-          (*E_before)[kj] += w * U;
-          Partner p = {{x[i][0], x[i][1], x[i][2]}, radius[i], type[i], tag[i], is_parent[i] != 0};
-          partners[kj].push_back(p);
-        }
-      }
-    }
-  }
+  each_pair_contact([&](int i, int j) { return slot[i] >= 0 || (j < nlocal && slot[j] >= 0); },
+                    [&](int i, int j, double, double U) {
+                      const int ki = slot[i], kj = (j < nlocal) ? slot[j] : -1;
+                      const double w = (is_parent[i] && is_parent[j]) ? 0.5 : 1.0;
+                      if (ki >= 0) {
+                        (*E_before)[ki] += w * U;
+                        Partner p = {{x[j][0], x[j][1], x[j][2]}, radius[j], type[j], tag[j], is_parent[j] != 0};
+                        partners[ki].push_back(p);
+                      }
+                      if (kj >= 0) {
+                        (*E_before)[kj] += w * U;
+                        Partner p = {{x[i][0], x[i][1], x[i][2]}, radius[i], type[i], tag[i], is_parent[i] != 0};
+                        partners[kj].push_back(p);
+                      }
+                    });
 
   std::vector<WallHit> all_hits;
   wall_hits(&slot, ~0, &all_hits);

@@ -107,6 +107,8 @@ class CrushEnergy : protected Pointers {
     double dn;
     bool operator<(const WallHit &o) const { return i < o.i || (i == o.i && (wall < o.wall || (wall == o.wall && (mesh < o.mesh || (mesh == o.mesh && tri < o.tri))))); }
   };
+  template <class Keep, class Visit>
+  void each_pair_contact(Keep keep, Visit visit);
   void wall_hits(const std::vector<int> *want, int groupbit, std::vector<WallHit> *hits);
   double wall_hits_energy(const std::vector<WallHit> &hits, size_t b, size_t e, double r, int type);
   // the fragment (x, r, type) with the walls its parent touched

@@ -22,10 +22,10 @@
 #include "crush_energy_kernel.h"
 #include "crush_fragment_kernel.h"
 #include "crush_stability_kernel.h"
+#include "crush_wall_contacts.h"
 #include "domain.h"
 #include "error.h"
 #include "fix_mesh_surface.h"
-#include "fix_neighlist_mesh.h"
 #include "fix_property_global.h"
 #include "fix_wall_gran.h"
 #include "force.h"
@@ -34,7 +34,6 @@
 #include "neigh_list.h"
 #include "neighbor.h"
 #include "pair.h"
-#include "primitive_wall.h"
 #include "properties.h"
 #include "tri_mesh.h"
 #include "update.h"
@@ -691,11 +690,7 @@ void FixCrushParticle::pairs_scan(int i, double D)
 
 void FixCrushParticle::find_candidates_walls()
 {
-  double **x = atom->x;
-  const double *radius = atom->radius;
-  const int *type = atom->type;
   const int nlocal = atom->nlocal;
-  double delta_vec[3];
   // with margin_skip: new references with the pair scan's, else the
   // particles whose wall margins may be used up are looked at again
   // (the pair scan sized d2_ to the particles present if it ran)
@@ -710,54 +705,19 @@ void FixCrushParticle::find_candidates_walls()
     if (full) wall_full_scan_ = wall_scan_;
   }
 
-  for (size_t w = 0; w < walls_.size(); w++) {
-    FixWallGran *wall = walls_[w];
-    if (wall->is_mesh_wall()) {
-      for (int im = 0; im < wall->n_meshes(); im++) {
-        FixMeshSurface *fm = wall->mesh_list()[im];
-        TriMesh *mesh = fm->triMesh();
-        FixNeighlistMesh *nl = fm->meshNeighlist();
-        if (!nl) continue;
-        const int wtype = fm->atomTypeWall();
-        const int ntri = mesh->sizeLocal() + mesh->sizeGhost();
-        for (int t = 0; t < ntri; t++) {
-          const std::vector<int> &cl = nl->get_contact_list(t);
-          for (size_t c = 0; c < cl.size(); c++) {
-            const int i = cl[c];
-            if (i >= nlocal || !eligible(i)) continue;
-            if (!full && wall_skip(i)) continue;
-            int barysign;
-            const double deltan = mesh->resolveTriSphereContact(i, t, radius[i], x[i], delta_vec, barysign);
-            const double Es = E_star(type[i], wtype);
-            const double lim = limit_overlap(crush_[i][0], radius[i], Es);
-            // particles near the mesh but not touching it count with their gap
-            if (skip_on) wall_margin_update(i, lim + deltan);
-            if (deltan >= 0.0) continue;
-            // contacts at shared edges are seen once per triangle with the
-            // same overlap: harmless for a maximum
-            if (-deltan >= lim) consider(i, -deltan, radius[i], Es, PARTNER_WALL);
-          }
-        }
-      }
-    } else {
-      PrimitiveWall *pw = wall->primitiveWall();
-      if (!pw) continue;
-      const int wtype = wall->atom_type_wall();
-      int *nb;
-      const int n = pw->getNeighbors(nb);
-      for (int k = 0; k < n; k++) {
-        const int i = nb[k];
-        if (i >= nlocal || !(atom->mask[i] & wall->groupbit) || !eligible(i)) continue;
-        if (!full && wall_skip(i)) continue;
-        const double deltan = pw->resolveContact(x[i], radius[i], delta_vec);
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  for_each_wall_neighbour(
+      walls_, atom, [&](int i) { return eligible(i) && (full || !wall_skip(i)); },
+      [&](int i, int, int, int, int wtype, double deltan) {
         const double Es = E_star(type[i], wtype);
         const double lim = limit_overlap(crush_[i][0], radius[i], Es);
+        // particles near the wall but not touching it count with their gap
         if (skip_on) wall_margin_update(i, lim + deltan);
-        if (deltan >= 0.0) continue;
-        if (-deltan >= lim) consider(i, -deltan, radius[i], Es, PARTNER_WALL);
-      }
-    }
-  }
+        // contacts at shared mesh edges are seen once per triangle with the
+        // same overlap: harmless for a maximum
+        if (deltan < 0.0 && -deltan >= lim) consider(i, -deltan, radius[i], Es, PARTNER_WALL);
+      });
 }
 
 /* ----------------------------------------------------------------------
