@@ -39,15 +39,15 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 
 import numpy as np  # noqa: E402
 
+from crushpost.snapshot import write_snapshot  # noqa: E402
+
 R_PILE = 0.018
 R_CH = 12 * R_PILE
 H = 0.4
 SOLID = 0.6
 
 
-def write_snapshot(path, n, n_contacts, n_walls=20000, seed=2024):
-    import h5py
-
+def write_synthetic(path, n, n_contacts, n_walls=20000, seed=2024):
     rng = np.random.default_rng(seed)
     v_grain = SOLID * math.pi * R_CH ** 2 * H / n
     a = (3.0 * v_grain / (4.0 * math.pi)) ** (1.0 / 3.0)
@@ -71,38 +71,23 @@ def write_snapshot(path, n, n_contacts, n_walls=20000, seed=2024):
     pid = np.column_stack([key // (n + 1), key % (n + 1)]).astype(np.int64)
     cp = 0.5 * (x[pid[:, 0] - 1] + x[pid[:, 1] - 1])
     force = rng.normal(0.0, 5.0, (n_contacts, 3))
-    with h5py.File(path, "w") as f:
-        f.attrs["step"] = np.int64(1000)
-        f.attrs["time"] = 1e-3
-        f.attrs["dt"] = 1e-7
-        f.attrs.create("trigger", np.bytes_("f_jack[6]"))
-        f.attrs["trigger_old"] = 0.0
-        f.attrs["trigger_new"] = 1.0
-        f.attrs["snapshot"] = np.int64(1)
-        g = f.create_group("particles")
-        g["id"] = ids
-        g["type"] = np.ones(n, dtype=np.int32)
-        g["x"] = x
-        g["v"] = np.zeros((n, 3))
-        g["radius"] = radius
-        c = f.create_group("contacts")
-        pp = c.create_group("pp")
-        pp["id"] = pid
-        pp["contact_point"] = cp
-        pp["force"] = force
-        pp["force_normal"] = force
-        pp["overlap"] = np.full(n_contacts, 1e-5)
-        pw = c.create_group("pw")
-        pw.attrs.create("meshes", np.bytes_("side bottom top cone shaft"))
-        pw.attrs.create("wall_fix", np.bytes_("walls"))
-        wid = np.sort(rng.choice(ids, n_walls, replace=False))
-        pw["id"] = wid
-        pw["mesh"] = rng.integers(0, 5, n_walls).astype(np.int32)
-        pw["triangle"] = rng.integers(0, 100, n_walls).astype(np.int64)
-        pw["contact_point"] = x[wid - 1] + [a, 0, 0]
-        pw["force"] = rng.normal(0.0, 5.0, (n_walls, 3))
-        pw["force_normal"] = pw["force"][()]
-        pw["overlap"] = np.full(n_walls, 1e-5)
+    # the draws in the order of the former inline writer (same data)
+    wid = np.sort(rng.choice(ids, n_walls, replace=False))
+    mesh = rng.integers(0, 5, n_walls)
+    tri = rng.integers(0, 100, n_walls)
+    f_wall = rng.normal(0.0, 5.0, (n_walls, 3))
+    write_snapshot(path, {
+        "step": 1000, "time": 1e-3, "dt": 1e-7, "trigger": "f_jack[6]", "trigger_old": 0.0,
+        "trigger_new": 1.0, "snapshot": 1,
+        "particles": {"id": ids, "type": np.ones(n, dtype=np.int32), "x": x,
+                      "v": np.zeros((n, 3)), "radius": radius},
+        "contacts": {
+            "pp": {"id": pid, "contact_point": cp, "force": force, "force_normal": force,
+                   "overlap": np.full(n_contacts, 1e-5)},
+            "pw": {"id": wid, "mesh": mesh, "triangle": tri,
+                   "contact_point": x[wid - 1] + [a, 0, 0], "force": f_wall,
+                   "force_normal": f_wall, "overlap": np.full(n_walls, 1e-5),
+                   "meshes": ["side", "bottom", "top", "cone", "shaft"], "wall_fix": "walls"}}})
     return a
 
 
@@ -153,7 +138,7 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "jack_1000.h5")
         t = time.time()
-        grain_r = write_snapshot(path, a.particles, a.contacts)
+        grain_r = write_synthetic(path, a.particles, a.contacts)
         print("synthetic snapshot: %d particles (radius %.3g mm +- 20 %%), %d contacts, %.0f MB, "
               "written in %.1f s" % (a.particles, grain_r * 1e3, a.contacts,
                                      os.path.getsize(path) / 2 ** 20, time.time() - t))

@@ -20,6 +20,10 @@ One file per snapshot, ``PREFIX_<step>.h5``. :func:`read_snapshot` returns::
 
 Particles are sorted by id, pair contacts by (id_i, id_j), wall contacts by
 (id, mesh, triangle). SI units (the decks of this project).
+
+:func:`write_snapshot` writes such a dict back in the fix's layout, for
+synthetic runs in tests and benchmarks (the fix is the only writer of real
+snapshots).
 """
 
 import glob
@@ -30,7 +34,7 @@ import numpy as np
 
 from .stress import particle_stress
 
-__all__ = ["read_snapshot", "list_snapshots", "read_snapshots", "contact_rows",
+__all__ = ["read_snapshot", "write_snapshot", "list_snapshots", "read_snapshots", "contact_rows",
            "snapshot_particle_stress"]
 
 _STEP_RE = re.compile(r"_(\d+)\.h5$")
@@ -126,6 +130,54 @@ def _read_snapshot(h5py, path):
         if k in p:
             p[k] = np.asarray(p[k], dtype=float).reshape(-1, 3)
     return out
+
+
+def write_snapshot(path, snap):
+    """Write ``snap``, a dict laid out as :func:`read_snapshot` returns it,
+    in the layout of fix snapshot/hdf5. Needed: "step" and
+    "particles" (id, type, x, v, radius); optional: "time", "dt",
+    "trigger", "trigger_old", "trigger_new", "snapshot" (written when
+    given), "particles"/"values" and "contacts" (None: none; "pw" None: no
+    wall contacts). Returns ``path``."""
+    h5py = _h5py()
+    with h5py.File(str(path), "w") as f:
+        f.attrs["step"] = np.int64(snap["step"])
+        for a in ("time", "dt", "trigger_old", "trigger_new"):
+            if a in snap:
+                f.attrs[a] = float(snap[a])
+        if "snapshot" in snap:
+            f.attrs["snapshot"] = np.int64(snap["snapshot"])
+        for a in ("trigger", "fix", "group"):
+            if snap.get(a):
+                f.attrs.create(a, np.bytes_(snap[a]))
+        g = f.create_group("particles")
+        p = snap["particles"]
+        for k, dtype in (("id", np.int64), ("type", np.int32), ("x", float), ("v", float),
+                         ("radius", float)):
+            g[k] = np.asarray(p[k], dtype=dtype)
+        if p.get("values"):
+            gv = g.create_group("values")
+            for k, v in p["values"].items():
+                gv[k] = np.asarray(v)
+        c = snap.get("contacts")
+        if c is None:
+            return path
+        gc = f.create_group("contacts")
+        kinds = (("pp", {"id": np.int64}), ("pw", {"id": np.int64, "mesh": np.int32,
+                                                   "triangle": np.int64}))
+        for kind, int_types in kinds:
+            d = c.get(kind)
+            if d is None:
+                continue
+            gk = gc.create_group(kind)
+            for k in ("id", "mesh", "triangle", "contact_point", "force", "force_normal",
+                      "overlap"):
+                if k in d:
+                    gk[k] = np.asarray(d[k], dtype=int_types.get(k, float))
+            if kind == "pw":
+                gk.attrs.create("meshes", np.bytes_(" ".join(d.get("meshes", []))))
+                gk.attrs.create("wall_fix", np.bytes_(d.get("wall_fix", "")))
+    return path
 
 
 def list_snapshots(prefix):

@@ -18,6 +18,7 @@ import pytest
 h5py = pytest.importorskip("h5py")
 
 from crushpost.cli import main  # noqa: E402
+from crushpost.snapshot import write_snapshot  # noqa: E402
 from crushpost.trend import qc_trend  # noqa: E402
 
 R = 0.018
@@ -38,37 +39,21 @@ def _snapshot(path, step, x, radius, ids, trigger_old, rng):
     pid = np.column_stack([ids[i], ids[i + 1]])
     cp = 0.5 * (x[i] + x[i + 1])
     f = -(x[i + 1] - x[i]) * 1e4 * rng.uniform(0.5, 1.5, (n - 1, 1))   # on id[:, 0]
-    with h5py.File(path, "w") as h:
-        h.attrs["step"] = np.int64(step)
-        h.attrs["time"] = step * 1e-7
-        h.attrs["dt"] = 1e-7
-        h.attrs.create("trigger", np.bytes_("f_jack[6]"))
-        h.attrs["trigger_old"] = float(trigger_old)
-        h.attrs["trigger_new"] = 1.0
-        h.attrs["snapshot"] = np.int64(1)
-        g = h.create_group("particles")
-        g["id"] = ids
-        g["type"] = np.ones(n, dtype=np.int32)
-        g["x"] = x
-        g["v"] = np.zeros((n, 3))
-        g["radius"] = radius
-        c = h.create_group("contacts")
-        pp = c.create_group("pp")
-        pp["id"] = pid
-        pp["contact_point"] = cp
-        pp["force"] = f
-        pp["force_normal"] = f
-        pp["overlap"] = np.full(n - 1, 1e-5)
-        pw = c.create_group("pw")
-        pw.attrs.create("meshes", np.bytes_("side bottom"))
-        pw.attrs.create("wall_fix", np.bytes_("walls"))
-        pw["id"] = ids[:5]
-        pw["mesh"] = np.zeros(5, dtype=np.int32)
-        pw["triangle"] = np.zeros(5, dtype=np.int64)
-        pw["contact_point"] = x[:5] - [0, 0, 0.001]
-        pw["force"] = np.tile([0.0, 0.0, 2.0], (5, 1))
-        pw["force_normal"] = np.tile([0.0, 0.0, 2.0], (5, 1))
-        pw["overlap"] = np.full(5, 1e-5)
+    write_snapshot(path, {
+        "step": step, "time": step * 1e-7, "dt": 1e-7, "trigger": "f_jack[6]",
+        "trigger_old": float(trigger_old), "trigger_new": 1.0, "snapshot": 1,
+        "particles": {"id": ids, "type": np.ones(n, dtype=np.int32), "x": x,
+                      "v": np.zeros((n, 3)), "radius": radius},
+        "contacts": {
+            "pp": {"id": pid, "contact_point": cp, "force": f, "force_normal": f,
+                   "overlap": np.full(n - 1, 1e-5)},
+            "pw": {"id": ids[:5], "mesh": np.zeros(5, dtype=np.int32),
+                   "triangle": np.zeros(5, dtype=np.int64),
+                   "contact_point": x[:5] - [0, 0, 0.001],
+                   "force": np.tile([0.0, 0.0, 2.0], (5, 1)),
+                   "force_normal": np.tile([0.0, 0.0, 2.0], (5, 1)),
+                   "overlap": np.full(5, 1e-5), "meshes": ["side", "bottom"],
+                   "wall_fix": "walls"}}})
 
 
 def make_run(out, snapshots=True):
