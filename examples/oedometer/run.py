@@ -99,6 +99,11 @@ def postprocess(args, out, wall, n0):
         # void ratio on loading when sigma_v first reaches 10 and 30 MPa
         "e_at_10MPa": float(oedometer.loading_state_at(stress, 10e6)[0]),
         "e_at_30MPa": float(oedometer.loading_state_at(stress, 30e6)[0]),
+        # the same for the core, farther than d50 from the walls (denser than
+        # the whole cell, whose fringe at the walls is loose)
+        "e_core_start": float(stress["e_core"][0]),
+        "e_core_at_10MPa": float(oedometer.loading_state_at(stress, 10e6, key="e_core")[0]),
+        "e_core_at_30MPa": float(oedometer.loading_state_at(stress, 30e6, key="e_core")[0]),
         "Br_at_30MPa": float(oedometer.loading_state_at(stress, 30e6, key="Br")[0]),
         # crushing begins: sigma_v where 1 % of the initial grains have broken
         # (and that of the first break), crushpost.oedometer.crushing_onset

@@ -3,7 +3,9 @@ from the thermo output of examples/oedometer/in.oedometer, grading curves from
 its particle dumps, HDF5 output and the standard plots.
 
 Thermo columns used (LIGGGHTS drops the v_ prefix in the header):
-``Step Time Atoms z_top sv e_void n_break fines Br V_grains``.
+``Step Time Atoms z_top sv e_void e_core n_break fines Br V_grains``: e_void is
+the whole cell's void ratio, e_core that of its core (farther than d50 from
+the walls and platens; NaN in the path of a log without it).
 """
 
 import glob
@@ -16,7 +18,9 @@ from .breakage import break_fines, psd_curve
 from .dump import read_dump
 from .thermo import read_log
 
-PATH_COLUMNS = ("Step", "Time", "Atoms", "z_top", "sv", "e_void", "n_break", "fines", "Br")
+PATH_COLUMNS = ("Step", "Time", "Atoms", "z_top", "sv", "e_void", "e_core", "n_break", "fines", "Br")
+# columns a log of an older deck may lack: NaN, not 0
+NAN_IF_MISSING = ("e_core",)
 
 
 def stress_path(log_path):
@@ -36,7 +40,10 @@ def stress_path(log_path):
         if last_step is not None:
             keep &= b["Step"] > last_step  # each run repeats its first step
         for k in PATH_COLUMNS:
-            out[k].append(np.asarray(b[k])[keep] if k in b else np.zeros(keep.sum()))
+            if k in b:
+                out[k].append(np.asarray(b[k])[keep])
+            else:
+                out[k].append(np.full(keep.sum(), np.nan if k in NAN_IF_MISSING else 0.0))
         if len(b["Step"]):
             last_step = b["Step"][-1]
     path = {k: np.concatenate(v) for k, v in out.items()}
@@ -148,6 +155,11 @@ def plot_all(out_dir, stress, psd=None, title=""):
     fig, ax = plt.subplots(figsize=(5.5, 4))
     ax.semilogx(sv[load & pos], stress["e_void"][load & pos], "-", label="loading")
     ax.semilogx(sv[~load & pos], stress["e_void"][~load & pos], "-", label="unloading")
+    if "e_core" in stress and np.isfinite(stress["e_core"]).any():
+        ax.semilogx(sv[load & pos], stress["e_core"][load & pos], "--", color="C0",
+                    label="loading, core (> d50 from walls)")
+        ax.semilogx(sv[~load & pos], stress["e_core"][~load & pos], "--", color="C1",
+                    label="unloading, core")
     ax.set_xlabel("vertical stress $\\sigma_v$ (MPa)")
     ax.set_ylabel("void ratio e (-)")
     ax.set_title(title or "oedometer")

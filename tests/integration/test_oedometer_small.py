@@ -56,6 +56,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
 from crushpost.oedometer import stress_path  # noqa: E402
+from crushpost.prep import core_area, core_volumes  # noqa: E402
 
 RUN_PY = harness.REPO / "examples" / "oedometer" / "run.py"
 RHO = 2600.0
@@ -81,7 +82,7 @@ SUMMARY_KEYS = {"grains", "N", "n_particles_initial", "n_particles_final",
                 "porosity_start_of_loading", "e_start", "e_min", "e_end",
                 "sigma_v_max_MPa", "n_break_events", "Br_final", "fines_mass",
                 "wall_time_s", "mpi_ranks", "plots"}
-PATH_KEYS = {"Step", "Time", "Atoms", "z_top", "sv", "e_void", "n_break",
+PATH_KEYS = {"Step", "Time", "Atoms", "z_top", "sv", "e_void", "e_core", "n_break",
              "fines", "Br", "phase"}
 PSD_KEYS = {"sizes", "steps", "sv", "F"}
 
@@ -235,6 +236,35 @@ def test_void_ratio_is_the_cell_volume_over_the_solid_volume(run):
         checked += 1
     assert checked >= 5, checked
 
+
+def test_core_void_ratio_is_that_of_the_grains_inside_the_core(run):
+    """e_core of the deck (inputs/core_cylinder.in with the platen as the
+    core's top) against exact sphere/cylinder volumes of the dumped grains
+    (crushpost.prep.core_volumes), fines spread by volume as the deck does;
+    it starts at the preparation's core porosity and stays below e_void (the
+    loose fringe at the walls is outside the core)."""
+    p = run.path
+    d50 = D50
+    V_core = core_area(R_CELL, d50, 360) * (p["z_top"] - 2 * d50)
+    V_sample = A_CELL * p["z_top"]
+    checked, worst = 0, 0.0
+    for fr in run.dumps():
+        if fr.timestep not in p["Step"]:
+            continue
+        k = np.flatnonzero(p["Step"] == fr.timestep)[0]
+        c = np.column_stack([fr["x"], fr["y"], fr["z"]])
+        vcg = np.sum(core_volumes(c, fr["radius"], R_CELL, p["z_top"][k], d50))
+        e_exact = V_core[k] / (vcg + p["fines"][k] / RHO * V_core[k] / V_sample[k]) - 1.0
+        worst = max(worst, abs(p["e_core"][k] - e_exact))
+        checked += 1
+    assert checked >= 5, checked
+    # the block's cut of a sphere by the core's curved side is approximate
+    # (inputs/core_cylinder.in), dumps carry 6 digits
+    assert worst < 1e-3, worst
+    n0 = run.summary["prep"]["porosity_core"]
+    assert p["e_core"][0] == pytest.approx(n0 / (1 - n0), abs=1e-9)
+    assert np.all(p["e_core"] < p["e_void"])
+    assert run.summary["e_core_start"] == p["e_core"][0]
 
 # ---------------------------------------------------------------- c. breakage index
 
