@@ -63,7 +63,7 @@ void CrushEnergy::init(Pair *pair, const std::vector<FixWallGran *> &walls, cons
 /* ----------------------------------------------------------------------
    Every particle pair of the granular pair list in contact, for
    total_elastic and break_energies: for each pair with keep(i, j) true and
-   overlap delta > 0, visit(i, j, delta, U) with U the contact's elastic
+   overlap > 0, visit(i, j, U) with U the contact's elastic
    energy (normal Hertz plus the history spring, crush_energy_kernel.h).
 ------------------------------------------------------------------------- */
 
@@ -92,7 +92,7 @@ void CrushEnergy::each_pair_contact(Keep keep, Visit visit)
         const double *s = &hist[dnum * jj + shear_offset_];
         s2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
       }
-      visit(i, j, delta,
+      visit(i, j,
             contact_elastic_energy(delta, effective_radius(radius[i], radius[j]), Es(type[i], type[j]),
                                    Gs(type[i], type[j]), s2));
     }
@@ -110,7 +110,7 @@ double CrushEnergy::total_elastic(int groupbit)
   double U = 0.0;
 
   each_pair_contact([&](int i, int j) { return (mask[i] & groupbit) || (mask[j] & groupbit); },
-                    [&](int, int j, double, double U_c) {
+                    [&](int, int j, double U_c) {
                       // newton off: a pair with a ghost is in the lists of both ranks
                       U += ((j < nlocal) ? 1.0 : 0.5) * U_c;
                     });
@@ -228,7 +228,7 @@ void CrushEnergy::break_energies(const std::vector<int> &parents, const std::vec
   std::vector<std::vector<Partner> > partners(np);
 
   each_pair_contact([&](int i, int j) { return slot[i] >= 0 || (j < nlocal && slot[j] >= 0); },
-                    [&](int i, int j, double, double U) {
+                    [&](int i, int j, double U) {
                       const int ki = slot[i], kj = (j < nlocal) ? slot[j] : -1;
                       const double w = (is_parent[i] && is_parent[j]) ? 0.5 : 1.0;
                       if (ki >= 0) {

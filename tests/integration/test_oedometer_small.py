@@ -244,18 +244,18 @@ def test_core_void_ratio_is_that_of_the_grains_inside_the_core(run):
     it starts at the preparation's core porosity and stays below e_void (the
     loose fringe at the walls is outside the core)."""
     p = run.path
-    d50 = D50
-    V_core = core_area(R_CELL, d50, 360) * (p["z_top"] - 2 * d50)
-    V_sample = A_CELL * p["z_top"]
+    area_core = core_area(R_CELL, D50, 360)
     checked, worst = 0, 0.0
     for fr in run.dumps():
-        if fr.timestep not in p["Step"]:
+        step = fr.timestep
+        if step not in p["Step"]:
             continue
-        k = np.flatnonzero(p["Step"] == fr.timestep)[0]
+        z_top, fines = run.at_step("z_top", step), run.at_step("fines", step)
+        V_core, V_sample = area_core * (z_top - 2 * D50), A_CELL * z_top
         c = np.column_stack([fr["x"], fr["y"], fr["z"]])
-        vcg = np.sum(core_volumes(c, fr["radius"], R_CELL, p["z_top"][k], d50))
-        e_exact = V_core[k] / (vcg + p["fines"][k] / RHO * V_core[k] / V_sample[k]) - 1.0
-        worst = max(worst, abs(p["e_core"][k] - e_exact))
+        vcg = np.sum(core_volumes(c, fr["radius"], R_CELL, z_top, D50))
+        e_exact = V_core / (vcg + fines / RHO * V_core / V_sample) - 1.0
+        worst = max(worst, abs(run.at_step("e_core", step) - e_exact))
         checked += 1
     assert checked >= 5, checked
     # the block's cut of a sphere by the core's curved side is approximate
