@@ -52,15 +52,11 @@ for W in (6, 8, 10, 12, 16):
 
 
 def snapshot_tree(work):
-    """Copy the drivers, decks, blocks and scripts into WORK/_tree_<time>:
-    LIGGGHTS reads its input file as it runs it, so an edit of a deck in the
-    checkout must not reach a run under way."""
-    import shutil
-    dst = os.path.join(work, "_tree_%d" % int(time.time()))
-    for sub in ("examples/triaxial", "examples/oedometer", "inputs", "scripts/crushpost"):
-        shutil.copytree(os.path.join(REPO, sub), os.path.join(dst, sub),
-                        ignore=shutil.ignore_patterns("__pycache__", "results*"))
-    return dst
+    """The drivers, decks, blocks and scripts copied into WORK/_tree_<time>
+    (crushpost.runner.snapshot_tree)."""
+    from crushpost.runner import snapshot_tree as copy_tree
+
+    return copy_tree(work, ("examples/triaxial", "examples/oedometer", "inputs", "scripts/crushpost"))
 
 
 # -- candidates of issue 14 item 4, on the periodic 8 d50 specimen of seed 2024
@@ -95,6 +91,12 @@ for W in (8, 12):
 # the default triaxial run (examples/triaxial/run.py with no size option:
 # periodic, crushable, 12 d50, seed 2024)
 CASES["default_W12_s2024_crushable"] = _triax(12, 2024, grains="crushable_ne34", cell="periodic")
+
+# critical state: the periodic specimens of the size study sheared to 40 %
+# (at 25 % they still dilate), at the default size and the largest
+for W in (12, 16):
+    for s in (2024, 2025, 2026):
+        CASES["cs40_W%d_s%d" % (W, s)] = _triax(W, s, "--eps-a-max", "0.4", cell="periodic")
 
 # -- oedometer (default cell R 5 d50, H 8 d50, to 30 MPa) --
 for s in (2024, 2025):

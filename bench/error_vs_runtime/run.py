@@ -22,6 +22,13 @@ A later call skips the pieces already there (--redo to run them again), so
 the study goes on in whatever pieces the time at hand allows (--budget-h
 stops starting new pieces after that many hours). Commit results.json
 after each call. Run folders go to results/error_vs_runtime/ (ignored by git).
+A chamber piece longer than a session writes restart files while jacking;
+killed, it goes on from the last one at the next call (crushpost.restart:
+the merged series are those of one run; its particle-steps count the lost
+work too). Calls may run side by side (--np 1 each on a 2-core machine runs
+more particle-steps per core-second than one 2-rank call): each takes the
+next piece no live call has claimed (running.pid in its folder) and adds
+its record to results.json as the file is then.
 """
 
 import argparse
@@ -41,6 +48,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import study  # noqa: E402
+from crushpost.runner import default_binary, snapshot_tree  # noqa: E402
 from crushpost.thermo import parse_log  # noqa: E402
 
 # NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
@@ -154,14 +162,16 @@ def pieces(smoke=False):
                         "setting": s2, "role": "reference_seed"})
         if smoke:
             continue
+        var = []
         for key, values in variants:
             for v in values:
                 for grains in ("crushable_ne34", "unbreakable"):
                     if grains == "unbreakable" and key in CRUSH_ONLY:
                         continue
-                    out.append({"name": _name(scene, grains, key, v), "scene": scene,
+                    var.append({"name": _name(scene, grains, key, v), "scene": scene,
                                 "grains": grains, "setting": dict(base, **{key: v}),
                                 "role": "variant", "varied": key})
+        out += sorted(var, key=lambda p: estimate(p)[1])     # stable: crushable first at a tie
     return out
 
 
@@ -171,28 +181,32 @@ def setting_dt(s):
     return time_step(s["N"], s["dt_frac"], s["d_comm_ratio"], s["d_scale_ref_d50"] * D50_1 * s["N"])
 
 
-def driver_args(p, out, np_, example):
+# what a piece runs, copied once per call (crushpost.runner.snapshot_tree)
+TREE_PARTS = ("examples/cpt_demo", "examples/oedometer", "inputs", "scripts/crushpost")
+
+
+def driver_args(p, out, np_, example, tree=REPO):
     """The command line of an example driver for a piece: the options the
     chamber and the oedometer drivers share."""
     s = p["setting"]
-    return [sys.executable, os.path.join(REPO, "examples", example, "run.py"), "--out", out,
+    return [sys.executable, os.path.join(tree, "examples", example, "run.py"), "--out", out,
             "--np", str(np_), "--grains", p["grains"], "--N", repr(s["N"]),
             "--dt", repr(setting_dt(s)), "--d-scale-ref", repr(s["d_scale_ref_d50"] * D50_1 * s["N"]),
             "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
             "--n-target", repr(s["n_target"])]
 
 
-def chamber_args(p, out, np_):
+def chamber_args(p, out, np_, tree=REPO):
     s = p["setting"]
-    return driver_args(p, out, np_, "cpt_demo") + [
+    return driver_args(p, out, np_, "cpt_demo", tree) + [
         "--mode", "monotonic", "--R-ch", repr(s["R_ch_over_R"] * R_PILE), "--H-ch", repr(s["H_ch"]),
         "--R-pile", repr(R_PILE), "--sector", str(s["sector"]), "--v-push", repr(s["v_push"]),
         "--depth", repr(s["depth"]), "--snapshots", "yes", "--spheres", "no"]
 
 
-def oedometer_args(p, out, np_):
+def oedometer_args(p, out, np_, tree=REPO):
     s = p["setting"]
-    return driver_args(p, out, np_, "oedometer") + [
+    return driver_args(p, out, np_, "oedometer", tree) + [
         "--R-d50", repr(s["R_d50"]), "--H-d50", repr(s["H_d50"]), "--v-load", repr(s["v_load"]),
         "--sv-max", repr(s["sv_max"]), "--dump-every", "0"]
 
@@ -212,10 +226,46 @@ def log_particle_steps(log_path):
     return every, test
 
 
-def run_piece(p, root, np_, liggghts=None):
+# chamber pieces write a restart file every this many chunks of 10000 steps
+# (about 10 minutes of the reference at 2 ranks); a piece whose folder holds
+# one and no summary.json goes on from it (crushpost.restart)
+RESTART_CHUNKS = 10
+
+
+def resumable(out):
+    return (os.path.exists(os.path.join(out, "restart", "latest.txt"))
+            and not os.path.exists(os.path.join(out, "summary.json")))
+
+
+CLAIM = "running.pid"        # in a piece's folder while a call runs it
+
+
+def claim(out):
+    """Mark the piece in ``out`` as run by this process; False if a live
+    process has it already (two calls side by side take different pieces)."""
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, CLAIM)
+    try:
+        with open(path) as f:
+            pid = int(f.read().split()[0])
+        os.kill(pid, 0)             # raises if no such process
+        if pid != os.getpid():
+            return False
+    except (OSError, ValueError, IndexError):
+        pass                         # no claim, or a dead process's
+    with open(path, "w") as f:
+        f.write("%d\n" % os.getpid())
+    return True
+
+
+def run_piece(p, root, np_, liggghts=None, tree=REPO):
     out = os.path.join(root, p["name"])
     os.makedirs(out, exist_ok=True)
-    cmd = (chamber_args if p["scene"] == "chamber" else oedometer_args)(p, out, np_)
+    cmd = (chamber_args if p["scene"] == "chamber" else oedometer_args)(p, out, np_, tree)
+    if p["scene"] == "chamber":
+        cmd += ["--restart-every", str(RESTART_CHUNKS)]
+        if resumable(out):
+            cmd += ["--resume"]
     if liggghts:
         cmd += ["--liggghts", liggghts]
     t0 = time.time()
@@ -223,7 +273,8 @@ def run_piece(p, root, np_, liggghts=None):
         rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT)
     wall = time.time() - t0
     rec = {"name": p["name"], "scene": p["scene"], "grains": p["grains"], "role": p["role"],
-           "varied": p.get("varied"), "setting": p["setting"], "command": cmd[1:],
+           "varied": p.get("varied"), "setting": p["setting"],
+           "command": [c.replace(tree + os.sep, "") for c in cmd[1:]],
            "exit_status": rc, "wall_s": wall, "mpi_ranks": np_, "core_s": wall * np_,
            "date": datetime.datetime.now().isoformat(timespec="seconds"),
            # the machine's load at the end: wall times under load are not costs
@@ -240,12 +291,18 @@ def run_piece(p, root, np_, liggghts=None):
         return rec
     with open(summ_path) as f:
         summ = json.load(f)
+    if summ.get("parts"):
+        # a run in parts: the wall time of all of them (the killed ones until
+        # their logs last changed), core-seconds at this call's rank count
+        rec["wall_s"] = summ["wall_time_s"]
+        rec["core_s"] = summ["wall_time_s"] * np_
+        rec["parts"] = summ["parts"]
     rec["n_particles_initial"] = summ.get("n_particles_initial")
     if p["scene"] == "chamber":
         rep = os.path.join(out, "report")
         rc2 = subprocess.call([sys.executable, "-m", "crushpost", "report", out, "--out", rep,
                                "--profile-h", "0.5"], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL, env=dict(os.environ, PYTHONPATH=os.path.join(REPO, "scripts")))
+                              stderr=subprocess.DEVNULL, env=dict(os.environ, PYTHONPATH=os.path.join(tree, "scripts")))
         fields = os.path.join(rep, "fields.h5")
         if not os.path.exists(fields):
             rec["error"] = "crushpost report exit status %d, no %s" % (rc2, fields)
@@ -442,14 +499,28 @@ def main(argv=None):
         todo = [p for p in todo if p["name"] in a.only]
     t_start = time.time()
     root = a.work + ("_smoke" if a.smoke else "")
+    tree = None
     for p in todo:
+        data = load(path)           # another call may have run it meanwhile
         if p["name"] in data["runs"] and not a.redo and "error" not in data["runs"][p["name"]]:
             continue
         if a.budget_h is not None and time.time() - t_start > a.budget_h * 3600:
             print("budget of %.2f h spent; stopping before %s" % (a.budget_h, p["name"]))
             break
+        if not claim(os.path.join(root, p["name"])):
+            print("%s: another call is running it; next" % p["name"], flush=True)
+            continue
         print("running %s ..." % p["name"], flush=True)
-        rec = run_piece(p, root, a.np, a.liggghts)
+        if tree is None:
+            tree = snapshot_tree(root, TREE_PARTS)
+        try:
+            rec = run_piece(p, root, a.np, a.liggghts or default_binary(), tree)
+        finally:
+            os.remove(os.path.join(root, p["name"], CLAIM))
+        # read the file again: another call may have added its pieces meanwhile
+        # (two 1-rank calls on two cores run more particle-steps per core-second
+        # than one 2-rank call)
+        data = load(path)
         data["runs"][p["name"]] = rec
         save(path, data)
         print("  %s: %.0f s, %s" % (p["name"], rec["wall_s"], rec.get("error") or rec.get("metrics")),

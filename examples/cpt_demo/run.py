@@ -2,6 +2,7 @@
 """Cone pile jacked into crushable sand in a reduced calibration chamber.
 
     examples/cpt_demo/run.py --out results/demo [--np 2] [--mode cyclic|monotonic]
+    examples/cpt_demo/run.py --out results/demo --resume     # after --restart-every K
 
 Builds the loose packing and the meshes, runs LIGGGHTS (preparation: radius
 expansion to the core porosity --n-target at 5 kPa, 1-D compression to 150 kPa,
@@ -14,7 +15,10 @@ outside_grains.txt, log.liggghts, snapshots/prep_<step>.h5 and
 snapshots/jack_<step>.h5. While LIGGGHTS runs it prints a line per preparation
 stage and per phase of the pile (depth, q_c, breaks so far, elapsed time, an
 estimate of the time left; crushpost.progress), and at the end the folder it
-wrote into (--json: also summary.json on stdout). The full analyses of the
+wrote into (--json: also summary.json on stdout). With --restart-every K it
+writes a restart file every K chunks of jacking; --resume goes on from the
+last one with the first start's options (args.json) and merges the parts'
+series (crushpost.restart; docs/cpt.md "Restarting a run"). The full analyses of the
 run: crushpost report OUT (docs/report.md; scripts/demo runs it).
 
 Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
@@ -26,11 +30,13 @@ missed its target).
 """
 
 import argparse
+import contextlib
 import json
 import math
 import os
 import re
 import sys
+import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
@@ -46,6 +52,7 @@ from crushpost.pile import PHASE_PUSH, inside_pile, read_jack, relative_to_tip, 
 from crushpost.prep import (PAPER_PREPARED, prep_chunk_for, prep_cost, prep_time_step,  # noqa: E402
                             read_prep_report, snapshot_prep_summary)
 from crushpost.progress import ChamberProgress, run_watched  # noqa: E402
+from crushpost import restart as rs  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,  # noqa: E402
@@ -99,16 +106,20 @@ def check_spheres(a, tip_z0):
                                  sector=a.sector)
 
 
-def write_spheres(a, out, tip_z0):
-    """The measurement-sphere block (docs/measurement_spheres.md); returns its path."""
+def write_spheres(a, out, tip_z0, part=0):
+    """The measurement-sphere block (docs/measurement_spheres.md); returns its
+    path. Part k > 0 of a run (crushpost.restart) writes spheres.part<k>.txt."""
     check_spheres(a, tip_z0)
-    path = os.path.join(out, "spheres.in")
+    name = "spheres.in" if not part else rs.part_name("spheres.in", part)
+    path = os.path.join(out, name)
     write_sphere_block(path, sphere_centres(a, tip_z0), sphere_radius(a), a.jack_every * 10,
-                       "spheres.txt")
+                       "spheres.txt" if not part else rs.part_name("spheres.txt", part))
     return path
 
 
-def run_deck(a, out, tip_z0, progress=None):
+def run_deck(a, out, tip_z0, progress=None, part=0, restart_file=None):
+    """Run the deck; part k > 0 goes on jacking from ``restart_file`` and
+    writes its own series and log (crushpost.restart). Returns the wall time."""
     if a.mode == "cyclic":
         jack = ("mode cyclic v %g stroke %g v_unload %g pause %g depth %g zero_tol %g"
                 % (a.v_push, a.stroke, a.v_unload, a.pause, a.depth, a.zero_tol))
@@ -132,16 +143,25 @@ def run_deck(a, out, tip_z0, progress=None):
     if a.snapshots == "yes":
         v["snapshot_block"] = "snapshots_hdf5"
         v["prep_snapshot_block"] = "snapshot_prep"
+    if a.restart_every > 0:
+        v["restart_chunks"] = a.restart_every
+    log = "log.liggghts"
+    if part:
+        v.update({"resume": 1, "restart_file": restart_file,
+                  "jack_file": rs.part_name("jack.txt", part),
+                  "crush_events": rs.part_name("breakage_events.txt", part)})
+        log = rs.part_name(log, part)
     if a.spheres == "yes":
-        v["spheres_file"] = write_spheres(a, out, tip_z0)
+        v["spheres_file"] = write_spheres(a, out, tip_z0, part)
     if a.snapshots == "no" and a.spheres == "no" and a.vtk == "none":
         # nothing reads the contact computes: a scene pays only for what it uses
         v["contacts_block"] = "none"
     if progress is not None:
         # a line per preparation stage and per phase of the pile while it runs
         return run_watched(os.path.join(HERE, "in.cpt"), out, v, progress, np=a.np,
-                           binary=a.liggghts, name="cpt_demo")
-    return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts, name="cpt")
+                           binary=a.liggghts, name="cpt_demo", log=log)
+    return run_liggghts(os.path.join(HERE, "in.cpt"), out, v, np=a.np, binary=a.liggghts,
+                        name="cpt", log=log)
 
 
 # The demo stops with a non-zero exit when any of these fails (issue 5 item 6).
@@ -221,7 +241,7 @@ def prep_summary(a, out):
     return prep
 
 
-def postprocess(a, out, wall, n0, tip_z0):
+def postprocess(a, out, wall, n0, tip_z0, parts=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -337,11 +357,90 @@ def postprocess(a, out, wall, n0, tip_z0):
             "final_mean_stress_kPa": [float(np.trace(sg) / 3e3) for sg in sigma[-1]],
             "final_sigma_zz_kPa": [float(sg[2, 2] / 1e3) for sg in sigma[-1]],
         }
+    if parts:
+        # a run in parts (crushpost.restart): the steps each part went on from
+        summary["parts"] = [{"part": p["part"], "restart_step": p["step"],
+                             "restart_file": p["restart_file"], "mpi_ranks": p.get("mpi_ranks")}
+                            for p in parts]
     summary["prep"] = prep_summary(a, out)
     summary["failed_checks"] = failed_checks(summary)
     with open(os.path.join(out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=2)
     return summary
+
+
+ARGS_FILE = "args.json"      # the options of the first start (--resume reads them)
+SCENE_FILE = "scene.json"    # grains placed, initial apex z, start time
+RESUME_OWN = ("np", "proc_grid", "liggghts", "json", "resume", "out")
+
+
+@contextlib.contextmanager
+def liggghts_errors_named(log):
+    """On a failed LIGGGHTS run, name its last ERROR line (e.g. "Lost atoms:
+    original ... current ...", or a preparation stage that missed its target)."""
+    try:
+        yield
+    except SystemExit:
+        if os.path.exists(log):
+            errors = [ln.strip() for ln in open(log, errors="replace") if ln.startswith("ERROR")]
+            if errors:
+                sys.stderr.write("cpt_demo: %s: %s\n" % (log, errors[-1]))
+        raise
+
+
+def resume(a):
+    """Go on with the run in a.out from its last complete restart file as the
+    next part (crushpost.restart); when it ends, merge the parts' series and
+    post-process the whole run."""
+    out = a.out
+    try:
+        with open(os.path.join(out, ARGS_FILE)) as f:
+            first = json.load(f)
+        with open(os.path.join(out, SCENE_FILE)) as f:
+            scene = json.load(f)
+    except (OSError, ValueError) as exc:
+        raise SystemExit("cpt_demo: --resume: %s: %s (the folder of a run started by this driver "
+                         "is needed)" % (out, exc))
+    if os.path.exists(os.path.join(out, "summary.json")):
+        raise SystemExit("cpt_demo: --resume: %s exists: the run is complete"
+                         % os.path.join(out, "summary.json"))
+    for key, value in first.items():
+        if key not in RESUME_OWN:
+            setattr(a, key, value)
+    if a.prep_only:
+        raise SystemExit("cpt_demo: --resume: the run in %s was started with --prep-only; only "
+                         "jacking runs go on from restart files" % out)
+    try:
+        step, path = rs.latest_restart(out)
+        parts = rs.read_parts(out)
+    except rs.RestartError as exc:
+        raise SystemExit("cpt_demo: --resume: %s" % exc)
+    k = len(parts) + 1
+    if k == 1:
+        # the first run's series become part 0 (merged into the usual names at the end)
+        for name in rs.SERIES + (rs.LOG,):
+            if os.path.exists(os.path.join(out, name)):
+                os.replace(os.path.join(out, name), os.path.join(out, rs.part_name(name, 0)))
+    for stale in rs.stale_snapshots(list_snapshots(os.path.join(out, "snapshots", "jack")), step):
+        os.remove(str(stale))
+    parts.append({"part": k, "restart_file": os.path.relpath(path, out), "step": step,
+                  "started": time.time(), "wall_s": None, "mpi_ranks": a.np})
+    rs.write_parts(out, parts)
+    log = os.path.join(out, rs.part_name(rs.LOG, k))
+    print("cpt_demo: part %d of the run in %s goes on from %s (step %d); LIGGGHTS on %d MPI "
+          "ranks (log: %s)" % (k, out, path, step, a.np, log), flush=True)
+    progress = ChamberProgress(out, a.depth, a.R_pile, files={
+        "log": rs.part_name(rs.LOG, k), "jack": rs.part_name("jack.txt", k),
+        "events": rs.part_name("breakage_events.txt", k)})
+    with liggghts_errors_named(log):
+        parts[-1]["wall_s"] = run_deck(a, out, scene["tip_z0"], progress, part=k, restart_file=path)
+    rs.write_parts(out, parts)
+    rs.merge_parts(out)
+    # the first run's wall time: until its log last changed (it was killed)
+    log0 = os.path.join(out, rs.part_name(rs.LOG, 0))
+    wall0 = max(0.0, os.path.getmtime(log0) - scene["started"]) if os.path.exists(log0) else 0.0
+    wall = wall0 + sum(rs.part_walls(out, parts))
+    return finish(a, wall, scene["n_particles_initial"], scene["tip_z0"], parts)
 
 
 def main(argv=None):
@@ -400,26 +499,32 @@ def main(argv=None):
     p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
     p.add_argument("--json", action="store_true",
                    help="print summary.json on stdout at the end (default: a few lines)")
+    p.add_argument("--restart-every", type=int, default=0, metavar="CHUNKS",
+                   help="while jacking, write a restart file every CHUNKS chunks of 10000 steps "
+                   "(restart/; docs/cpt.md 'Restarting a run'); 0 = none")
+    p.add_argument("--resume", action="store_true",
+                   help="go on with the run in --out from its last restart file, with the "
+                   "options of its first start (args.json) but --np, --proc-grid, --liggghts, --json")
     a = p.parse_args(argv)
     if a.servo_steps is not None:
         a.servo_loops = max(1, -(-a.servo_steps // 2000))
     a.out = os.path.abspath(a.out)          # LIGGGHTS runs in --out: paths given to it are absolute
+    if a.resume:
+        return resume(a)
     os.makedirs(a.out, exist_ok=True)
+    rs.clear_parts(a.out)       # an earlier run's restart files are not this run's
     print("cpt_demo: writing into %s" % a.out, flush=True)
+    started = time.time()
     n0, tip_z0 = build(a, a.out)
+    with open(os.path.join(a.out, ARGS_FILE), "w") as f:
+        json.dump(vars(a), f, indent=2)
+    with open(os.path.join(a.out, SCENE_FILE), "w") as f:
+        json.dump({"n_particles_initial": int(n0), "tip_z0": float(tip_z0), "started": started}, f)
     print("cpt_demo: %d grains placed; LIGGGHTS on %d MPI ranks (log: %s)"
           % (n0, a.np, os.path.join(a.out, "log.liggghts")), flush=True)
     progress = ChamberProgress(a.out, 0.0 if a.prep_only else a.depth, a.R_pile)
-    try:
+    with liggghts_errors_named(os.path.join(a.out, "log.liggghts")):
         wall = run_deck(a, a.out, tip_z0, progress)
-    except SystemExit:
-        # name LIGGGHTS' error (e.g. "Lost atoms: original ... current ...",
-        # or a preparation stage that missed its target)
-        errors = [ln.strip() for ln in open(os.path.join(a.out, "log.liggghts"), errors="replace")
-                  if ln.startswith("ERROR")]
-        if errors:
-            sys.stderr.write("cpt_demo: %s: %s\n" % (os.path.join(a.out, "log.liggghts"), errors[-1]))
-        raise
     if a.prep_only:
         summary = {"prep": prep_summary(a, a.out), "wall_time_s": wall, "mpi_ranks": a.np,
                    "n_particles_initial": int(n0), "N": a.N, "R_chamber_m": a.R_ch,
@@ -430,7 +535,12 @@ def main(argv=None):
             print(json.dumps(summary, indent=2))
         print("cpt_demo: prepared sample in %s (summary.json)" % a.out)
         return 0
-    summary = postprocess(a, a.out, wall, n0, tip_z0)
+    return finish(a, wall, n0, tip_z0)
+
+
+def finish(a, wall, n0, tip_z0, parts=None):
+    """Post-process a run that got to its end; the exit status."""
+    summary = postprocess(a, a.out, wall, n0, tip_z0, parts)
     if a.json:
         print(json.dumps(summary, indent=2))
     print("cpt_demo: q_c trend a = %.3g +- %.2g MPa (%s), %d breaks, mass balance %.2g, "

@@ -1,7 +1,8 @@
-"""Command line of crushpost: ``crushpost {br,fit-qc,thermo,pile,spheres,report} ...``."""
+"""Command line of crushpost: ``crushpost {br,fit-qc,thermo,pile,spheres,merge-parts,report} ...``."""
 
 import argparse
 import json
+import os
 import sys
 
 import numpy as np
@@ -314,6 +315,13 @@ def build_parser():
     sp.add_argument("--out", required=True, help="block file to write (e.g. spheres.in)")
     sp.set_defaults(func=_cmd_spheres)
 
+    mp = sub.add_parser("merge-parts", help="merge the parts of a chamber run that went on "
+                        "from restart files into jack.txt, breakage_events.txt, spheres.txt and "
+                        "log.liggghts (docs/cpt.md 'Restarting a run')")
+    mp.add_argument("run_dir", help="the run's folder: restart/parts.json, or the parts' logs "
+                    "log.part<k>.liggghts (their first thermo step is the restart step)")
+    mp.set_defaults(func=_cmd_merge_parts)
+
     rp = sub.add_parser("report", help="the analyses of a chamber run: figures (PNG), "
                         "fields.h5 and report.html (docs/report.md)")
     rp.add_argument("run_dir", help="the run's folder (examples/cpt_demo/run.py --out): "
@@ -347,6 +355,18 @@ def build_parser():
     rp.add_argument("--quiet", action="store_true", help="print errors only")
     rp.set_defaults(func=_cmd_report)
     return ap
+
+
+def _cmd_merge_parts(args):
+    from . import restart as rs
+
+    parts = rs.read_parts(args.run_dir)
+    if not parts:
+        parts = rs.infer_parts(args.run_dir)
+        rs.write_parts(args.run_dir, parts)
+    for name in rs.merge_parts(args.run_dir):
+        print("crushpost merge-parts: wrote %s" % os.path.join(args.run_dir, name))
+    return 0
 
 
 def _cmd_report(args):

@@ -64,18 +64,23 @@ class ChamberProgress:
     """Lines of progress of a chamber run in ``out`` (see the module doc).
 
     ``depth``: the target depth [m]; ``R_pile``: pile radius [m] (for q_c);
-    ``clock``: a function returning seconds (time.time)."""
+    ``clock``: a function returning seconds (time.time); ``files``: the
+    names of the log, the pile's series and the breakage events when they
+    differ from log.liggghts, jack.txt and breakage_events.txt (a part of a
+    run that goes on from a restart file, crushpost.restart)."""
 
-    def __init__(self, out, depth, R_pile, clock=time.time):
+    def __init__(self, out, depth, R_pile, clock=time.time, files=None):
+        names = {"log": "log.liggghts", "jack": "jack.txt", "events": "breakage_events.txt"}
+        names.update(files or {})
         self.out = out
         self.depth = depth
         self.area = 3.141592653589793 * R_pile ** 2
         self.clock = clock
         self.t0 = clock()
         self.t_jack0 = None
-        self.log = _Tail(os.path.join(out, "log.liggghts"))
-        self.jack = _Tail(os.path.join(out, "jack.txt"))
-        self.events = _Tail(os.path.join(out, "breakage_events.txt"))
+        self.log = _Tail(os.path.join(out, names["log"]))
+        self.jack = _Tail(os.path.join(out, names["jack"]))
+        self.events = _Tail(os.path.join(out, names["events"]))
         self.n_break = 0
         self.phase = None
         self.cycle = None
@@ -142,13 +147,13 @@ class ChamberProgress:
 
 
 def run_watched(deck, workdir, variables, progress, np=1, binary=None, name="liggghts",
-                every=2.0, write=None):
+                every=2.0, write=None, log="log.liggghts"):
     """:func:`crushpost.runner.run_liggghts` that prints ``progress``'s lines
     (a :class:`ChamberProgress`) every ``every`` seconds while LIGGGHTS
     runs. Returns the wall time [s]; a failed run exits with LIGGGHTS'
     status after naming the log."""
     write = write or (lambda line: print("%s: %s" % (name, line), flush=True))
-    cmd = mpirun_command(deck, variables, np=np, binary=binary)
+    cmd = mpirun_command(deck, variables, np=np, binary=binary, log=log)
     env = dict(os.environ)
     env.setdefault("OMP_NUM_THREADS", "1")
     t0 = time.time()
@@ -169,6 +174,6 @@ def run_watched(deck, workdir, variables, progress, np=1, binary=None, name="lig
         write(line)
     if rc != 0:
         sys.stderr.write("%s: LIGGGHTS failed (exit %d); see %s\n"
-                         % (name, rc, os.path.join(workdir, "log.liggghts")))
+                         % (name, rc, os.path.join(workdir, log)))
         sys.exit(rc)
     return wall

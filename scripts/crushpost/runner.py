@@ -11,7 +11,7 @@ import subprocess
 import sys
 import time
 
-__all__ = ["default_binary", "mpirun_command", "run_liggghts"]
+__all__ = ["default_binary", "mpirun_command", "run_liggghts", "snapshot_tree"]
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -38,10 +38,10 @@ def mpirun_command(deck, variables, np=1, binary=None, log="log.liggghts", as_ro
     return cmd
 
 
-def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts"):
+def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", log="log.liggghts"):
     """Run the deck in `workdir`; return the wall time in seconds. On failure
     print where the log is and exit with LIGGGHTS' exit code."""
-    cmd = mpirun_command(deck, variables, np=np, binary=binary)
+    cmd = mpirun_command(deck, variables, np=np, binary=binary, log=log)
     env = dict(os.environ)
     env.setdefault("OMP_NUM_THREADS", "1")
     t0 = time.time()
@@ -49,6 +49,21 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts"):
     wall = time.time() - t0
     if rc != 0:
         sys.stderr.write("%s: LIGGGHTS failed (exit %d); see %s\n"
-                         % (name, rc, os.path.join(workdir, "log.liggghts")))
+                         % (name, rc, os.path.join(workdir, log)))
         sys.exit(rc)
     return wall
+
+
+def snapshot_tree(work, subdirs):
+    """Copy ``subdirs`` of this checkout (drivers, deck blocks, crushpost)
+    into WORK/_tree_<time> and return that folder. LIGGGHTS reads an input
+    file as it reaches it, so a study that runs for hours runs its drivers
+    from such a copy: an edit of the checkout meanwhile must not reach a run
+    under way."""
+    import shutil
+
+    dst = os.path.join(work, "_tree_%d" % int(time.time()))
+    for sub in subdirs:
+        shutil.copytree(os.path.join(REPO, sub), os.path.join(dst, sub),
+                        ignore=shutil.ignore_patterns("__pycache__", "results*"))
+    return dst

@@ -19,3 +19,19 @@ def test_command_line_order_and_values():
 def test_root_flag():
     assert mpirun_command("d", {}, as_root=True, binary="b")[1] == "--allow-run-as-root"
     assert "--allow-run-as-root" not in mpirun_command("d", {}, as_root=False, binary="b")
+
+
+def test_log_name_and_snapshot_tree(tmp_path):
+    import os
+
+    from crushpost.runner import REPO, snapshot_tree
+
+    cmd = mpirun_command("d", {}, binary="b", log="log.part2.liggghts", as_root=False)
+    assert cmd[cmd.index("-log") + 1] == "log.part2.liggghts"
+    tree = snapshot_tree(str(tmp_path), ("inputs", "scripts/crushpost"))
+    assert os.path.dirname(tree) == str(tmp_path) and os.path.basename(tree).startswith("_tree_")
+    for name in ("pile_jacking.in", "chamber_resume.in"):
+        with open(os.path.join(REPO, "inputs", name)) as a, open(os.path.join(tree, "inputs", name)) as b:
+            assert a.read() == b.read()
+    assert os.path.exists(os.path.join(tree, "scripts", "crushpost", "restart.py"))
+    assert not any("__pycache__" in d for d, _, _ in os.walk(tree))
