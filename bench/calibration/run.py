@@ -51,6 +51,9 @@ for W in (6, 8, 10, 12, 16):
         CASES["per_W%d_s%d" % (W, s)] = _triax(W, s, cell="periodic")
 
 
+from crushpost.runner import default_binary  # noqa: E402
+
+
 def snapshot_tree(work):
     """The drivers, decks, blocks and scripts copied into WORK/_tree_<time>
     (crushpost.runner.snapshot_tree)."""
@@ -274,7 +277,8 @@ def main(argv=None):
             continue
         if tree is None:
             tree = snapshot_tree(a.work)
-        r = run_case(name, a.np, a.work, a.liggghts, tree)
+        # the binary of this checkout (the copied tree has no build/)
+        r = run_case(name, a.np, a.work, a.liggghts or default_binary(), tree)
         print("%s: exit %d, %.0f s" % (name, r["exit_code"], r["wall_time_s"]), flush=True)
     return 0
 

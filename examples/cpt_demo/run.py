@@ -72,14 +72,14 @@ def build(a, out):
 
 
 SPHERE_R_OVER_R = (2.0,)          # measurement spheres at r = 2 R from the axis ...
-SPHERE_DEPTHS_R = (1.0, 2.5)       # ... at these depths below the initial apex, in R
+SPHERE_DEPTHS_R = (1.0, 2.5)       # ... at these depths below the initial apex, in R (default)
 
 
 def sphere_centres(a, tip_z0):
     """Measurement-sphere centres (n, 3) beside the pile path, on a radius
     inside the simulated sector."""
     azimuth = {360: 0.0, 180: 90.0, 90: 45.0}[a.sector]
-    return chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in SPHERE_DEPTHS_R],
+    return chamber_sphere_centres(SPHERE_R_OVER_R, [d * a.R_pile for d in a.sphere_depths],
                                   a.R_pile, tip_z0, azimuth_deg=azimuth)
 
 
@@ -494,6 +494,10 @@ def main(argv=None):
                    help="HDF5 snapshot of particles and contacts at the end of every push and pause")
     p.add_argument("--spheres", default="yes", choices=["yes", "no"],
                    help="measurement spheres beside the pile path (spheres.txt)")
+    p.add_argument("--sphere-depths", type=float, nargs="+", default=list(SPHERE_DEPTHS_R),
+                   metavar="H_OVER_R",
+                   help="depths of the measurement spheres below the initial cone apex, in pile "
+                   "radii (default 1 2.5); each sphere must lie wholly in the sand")
     p.add_argument("--vtk", default="none", choices=["none", "particles", "contacts"],
                    help="VTK dumps for ParaView in post/: particles and meshes, or also the contact network")
     p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
