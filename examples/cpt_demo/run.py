@@ -113,7 +113,7 @@ def write_spheres(a, out, tip_z0, part=0):
     name = "spheres.in" if not part else rs.part_name("spheres.in", part)
     path = os.path.join(out, name)
     write_sphere_block(path, sphere_centres(a, tip_z0), sphere_radius(a), a.jack_every * 10,
-                       "spheres.txt" if not part else rs.part_name("spheres.txt", part))
+                       rs.part_files(part)["spheres"])
     return path
 
 
@@ -145,12 +145,11 @@ def run_deck(a, out, tip_z0, progress=None, part=0, restart_file=None):
         v["prep_snapshot_block"] = "snapshot_prep"
     if a.restart_every > 0:
         v["restart_chunks"] = a.restart_every
-    log = "log.liggghts"
+    files = rs.part_files(part)
     if part:
-        v.update({"resume": 1, "restart_file": restart_file,
-                  "jack_file": rs.part_name("jack.txt", part),
-                  "crush_events": rs.part_name("breakage_events.txt", part)})
-        log = rs.part_name(log, part)
+        v.update({"resume": 1, "restart_file": restart_file, "jack_file": files["jack"],
+                  "crush_events": files["events"]})
+    log = files["log"]
     if a.spheres == "yes":
         v["spheres_file"] = write_spheres(a, out, tip_z0, part)
     if a.snapshots == "no" and a.spheres == "no" and a.vtk == "none":
@@ -426,20 +425,18 @@ def resume(a):
     parts.append({"part": k, "restart_file": os.path.relpath(path, out), "step": step,
                   "started": time.time(), "wall_s": None, "mpi_ranks": a.np})
     rs.write_parts(out, parts)
-    log = os.path.join(out, rs.part_name(rs.LOG, k))
+    files = rs.part_files(k)
+    log = os.path.join(out, files["log"])
     print("cpt_demo: part %d of the run in %s goes on from %s (step %d); LIGGGHTS on %d MPI "
           "ranks (log: %s)" % (k, out, path, step, a.np, log), flush=True)
-    progress = ChamberProgress(out, a.depth, a.R_pile, files={
-        "log": rs.part_name(rs.LOG, k), "jack": rs.part_name("jack.txt", k),
-        "events": rs.part_name("breakage_events.txt", k)})
+    progress = ChamberProgress(out, a.depth, a.R_pile, files=files)
     with liggghts_errors_named(log):
         parts[-1]["wall_s"] = run_deck(a, out, scene["tip_z0"], progress, part=k, restart_file=path)
     rs.write_parts(out, parts)
     rs.merge_parts(out)
-    # the first run's wall time: until its log last changed (it was killed)
-    log0 = os.path.join(out, rs.part_name(rs.LOG, 0))
-    wall0 = max(0.0, os.path.getmtime(log0) - scene["started"]) if os.path.exists(log0) else 0.0
-    wall = wall0 + sum(rs.part_walls(out, parts))
+    # the first run (part 0) was killed: its wall time ends when its log last changed
+    first_run = {"part": 0, "started": scene["started"], "wall_s": None}
+    wall = sum(rs.part_walls(out, [first_run] + parts))
     return finish(a, wall, scene["n_particles_initial"], scene["tip_z0"], parts)
 
 

@@ -29,7 +29,7 @@ import numpy as np
 
 __all__ = ["LATEST", "PARTS", "SERIES", "latest_restart", "read_parts", "write_parts",
            "part_name", "keep_before", "merge_series_text", "merge_parts", "part_walls",
-           "stale_snapshots", "clear_parts", "infer_parts"]
+           "stale_snapshots", "clear_parts", "infer_parts", "part_files"]
 
 LATEST = os.path.join("restart", "latest.txt")
 PARTS = os.path.join("restart", "parts.json")
@@ -48,6 +48,13 @@ def part_name(name, part):
     if not dot:
         return "%s.part%d" % (name, part)
     return "%s.part%d.%s" % (stem, part, ext)
+
+
+def part_files(part):
+    """The files part k writes: {"log", "jack", "events", "spheres"} -> name
+    (part 0, the first run: the usual names)."""
+    names = {"log": LOG, "jack": SERIES[0], "events": SERIES[1], "spheres": SERIES[2]}
+    return {k: (v if not part else part_name(v, part)) for k, v in names.items()}
 
 
 def latest_restart(out):
@@ -107,7 +114,7 @@ def _split(text):
     is_data = np.array([bool(ln.strip()) and not ln.lstrip().startswith("#") for ln in lines],
                        dtype=bool)
     first = int(np.argmax(is_data)) if is_data.any() else len(lines)
-    header = [ln for ln in lines[:first]]
+    header = lines[:first]
     data = [ln if ln.endswith("\n") else ln + "\n" for ln, d in zip(lines, is_data) if d]
     steps = (np.loadtxt(data, usecols=0, ndmin=1).astype(np.int64) if data
              else np.zeros(0, dtype=np.int64))
@@ -136,8 +143,10 @@ def merge_series_text(texts, restart_steps):
 
 
 def part_walls(out, parts):
-    """Wall time [s] of every part after the first: recorded when the part
-    ended, else (a killed part) its log's last change less its start."""
+    """Wall time [s] of every part in ``parts`` (records with "part",
+    "started" and "wall_s"; part 0 is the first run, whose log
+    log.part0.liggghts is then): recorded when the part ended, else (a
+    killed part) its log's last change less its start."""
     walls = []
     for p in parts:
         if p.get("wall_s") is not None:

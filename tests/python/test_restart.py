@@ -141,3 +141,9 @@ def test_merge_parts_command_infers_the_parts_of_a_run_resumed_by_hand(tmp_path)
     empty = tmp_path / "empty"
     empty.mkdir()
     assert main(["merge-parts", str(empty)]) == 1       # "no log.part1.liggghts: no part to merge"
+
+
+def test_part_files():
+    assert rs.part_files(0) == {"log": "log.liggghts", "jack": "jack.txt",
+                                "events": "breakage_events.txt", "spheres": "spheres.txt"}
+    assert rs.part_files(3)["events"] == "breakage_events.part3.txt"
