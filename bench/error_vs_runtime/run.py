@@ -382,7 +382,33 @@ def table(data):
     return rows
 
 
-def write_table(rows, path_md, path_png):
+def qc_ratio(data):
+    """The ratio of unbreakable to crushable steady q_c for every chamber
+    setting run with both grain models (issue 11), its error against the
+    reference's ratio (same packing seed), the scatter of the ratio over the
+    reference's two seeds and the noise flags."""
+    runs = [r for r in data["runs"].values()
+            if "metrics" in r and r["scene"] == "chamber"]
+
+    def side(grains):
+        sel = [r for r in runs if r["grains"] == grains]
+        return ([r["name"].split("_", 2)[2] for r in sel],
+                [np.nan if r["metrics"].get("qc_steady_MPa") is None else r["metrics"]["qc_steady_MPa"]
+                 for r in sel])
+
+    keys, ratio = study.paired_ratio(*side("unbreakable"), *side("crushable_ne34"))
+    if "ref" not in keys:
+        return []
+    ref = ratio[keys.index("ref")]
+    seeds = [ratio[keys.index(k)] for k in keys if k == "ref" or k.startswith("ref_seed")]
+    scatter = float(study.seed_scatter(np.array(seeds))) if len(seeds) > 1 else float("nan")
+    err = study.relative_error(ratio, np.full(ratio.shape, ref))
+    noise = study.is_noise(err, np.full(ratio.shape, scatter))
+    return [{"setting": k, "ratio": float(ratio[i]), "error": float(err[i]),
+             "noise": bool(noise[i]), "reference_scatter": scatter} for i, k in enumerate(keys)]
+
+
+def write_table(rows, path_md, path_png, ratio_rows=()):
     lines = []
     for scene, metrics in (("chamber", CHAMBER_METRICS), ("oedometer", OEDO_METRICS)):
         sel = [r for r in rows if r["scene"] == scene]
@@ -410,6 +436,15 @@ def write_table(rows, path_md, path_png):
             lines.append("")
             lines.append("%s %s reference scatter (half the seed range over the mean): %s" % (
                 scene, g, ", ".join("%s %.2g %%" % (m, 100 * v) for m, v in sc.items())))
+    if ratio_rows:
+        lines += ["", "chamber: unbreakable / crushable steady q_c, per setting run with both "
+                  "(error against the reference's ratio, %%; 'noise': inside the ratio's seed "
+                  "scatter, %.2g %%)" % (100 * ratio_rows[0]["reference_scatter"]), "",
+                  "| setting | q_c ratio | error |", "|---|---|---|"]
+        for r in ratio_rows:
+            lines.append("| %s | %.3f | %s%s |" % (
+                r["setting"], r["ratio"], "%+.1f" % (100 * r["error"]) if np.isfinite(r["error"]) else "-",
+                ", noise" if r["noise"] else ""))
     with open(path_md, "w") as f:
         f.write("\n".join(lines).lstrip() + "\n")
     import matplotlib
@@ -485,10 +520,11 @@ def main(argv=None):
         save(path, data)
     if a.table:
         rows = table(data)
+        ratio_rows = qc_ratio(data)
         base = os.path.splitext(path)[0]
-        write_table(rows, base + "_table.md", base + "_error_vs_cost.png")
+        write_table(rows, base + "_table.md", base + "_error_vs_cost.png", ratio_rows)
         with open(base + "_table.json", "w") as f:
-            json.dump(rows, f, indent=1)
+            json.dump({"runs": rows, "qc_ratio_unbreakable_over_crushable": ratio_rows}, f, indent=1)
         print("wrote %s_table.md, _table.json, _error_vs_cost.png (%d runs)" % (base, len(rows)))
         return 0
     if a.only:

@@ -64,6 +64,23 @@ def pareto_front(cost, error):
     return ok & ~np.any(dom, axis=1)
 
 
+def paired_ratio(keys_num, num, keys_den, den):
+    """num / den for the settings run with both grain models (issue 11: the
+    ratio of unbreakable to crushable steady q_c, per setting). keys_*: the
+    setting of each run (e.g. "ref", "dt_frac=0.2"), num/den: its value.
+    Returns (keys, ratio) for the keys in both, in the order of keys_num;
+    NaN where den is 0 or a value is not finite."""
+    kn = np.asarray(keys_num, dtype=object).astype(str)
+    kd = np.asarray(keys_den, dtype=object).astype(str)
+    _, i_n, i_d = np.intersect1d(kn, kd, assume_unique=True, return_indices=True)
+    order = np.argsort(i_n)
+    i_n, i_d = i_n[order], i_d[order]
+    a = np.asarray(num, float)[i_n]
+    b = np.asarray(den, float)[i_d]
+    ok = np.isfinite(a) & np.isfinite(b) & (b != 0)
+    return kn[i_n].tolist(), np.where(ok, a / np.where(ok, b, 1.0), np.nan)
+
+
 def bilinear(values, x_mid, y_mid, x, y):
     """Value of a field given at cell centres (values[i, j] at x_mid[i],
     y_mid[j], both increasing) at the point (x, y), linear in each

@@ -76,3 +76,14 @@ def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
     assert m["sigma_r_2R_over_qc"] == pytest.approx(205e3 / 10e6)
     assert m["Br_band_1_2"] == pytest.approx(0.21)      # last state
     assert m["b_h"] == pytest.approx(4.0)
+
+
+def test_paired_ratio_pairs_settings_run_with_both_models():
+    # unbreakable runs of three settings, crushable runs of three (two shared)
+    keys, ratio = study.paired_ratio(["ref", "dt_frac=0.2", "N=50"], [30.0, 33.0, 40.0],
+                                     ["N=30", "ref", "dt_frac=0.2"], [10.0, 15.0, 0.0])
+    assert keys == ["ref", "dt_frac=0.2"]
+    assert ratio[0] == pytest.approx(2.0)
+    assert math.isnan(ratio[1])          # crushable value 0: no ratio
+    keys, ratio = study.paired_ratio(["a"], [1.0], ["b"], [1.0])
+    assert keys == [] and ratio.size == 0
