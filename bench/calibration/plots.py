@@ -194,7 +194,7 @@ def plot_oedometer(res, img):
     cases = [(n, r) for n, r in res.items() if n.startswith("oed")]
     if not cases:
         return None
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (a1, a3, a2) = plt.subplots(1, 3, figsize=(15, 4))
     for i, (n, r) in enumerate(cases):
         p = r["path"]
         sv = np.array(p["sv"]) / 1e6
@@ -204,16 +204,24 @@ def plot_oedometer(res, img):
         c = "C%d" % i
         a1.semilogx(sv[ok & (ph == 0)], e[ok & (ph == 0)], "-", color=c, label=n + " loading")
         a1.semilogx(sv[ok & (ph == 1)], e[ok & (ph == 1)], "--", color=c, lw=0.8)
+        # the core's void ratio: only runs whose deck wrote it (not the older ones)
+        e_core = np.array(p.get("e_core", np.full(sv.size, np.nan)), float)
+        if np.any(np.isfinite(e_core[ok])):
+            a3.semilogx(sv[ok & (ph == 0)], e_core[ok & (ph == 0)], "-", color=c, label=n + " loading")
+            a3.semilogx(sv[ok & (ph == 1)], e_core[ok & (ph == 1)], "--", color=c, lw=0.8)
         a2.semilogx(sv[ok & (ph == 0)], 100 * np.array(p["n_break"])[ok & (ph == 0)] / p["Atoms"][0],
                     "-", color=c, label=n)
-    a1.axhline(0.87, color="0.6", lw=0.8, ls=":")
-    a1.axhline(0.53, color="0.6", lw=0.8, ls=":")
-    a1.text(0.06, 0.855, "NE34 e_max 0.87 (SPEC 3)", fontsize=7, color="0.4")
-    a1.text(0.06, 0.535, "NE34 e_min 0.53", fontsize=7, color="0.4")
-    a1.set_xlabel("vertical stress σv (MPa)")
-    a1.set_ylabel("void ratio e (whole cell) (-)")
-    a1.grid(True, which="both", alpha=0.3)
-    a1.legend(fontsize=7)
+    for ax, what in ((a1, "whole cell"), (a3, "core, farther than d50 from the walls")):
+        ax.axhline(0.87, color="0.6", lw=0.8, ls=":")
+        ax.axhline(0.53, color="0.6", lw=0.8, ls=":")
+        ax.text(0.02, 0.855, "NE34 e_max 0.87 (SPEC 3)", fontsize=7, color="0.4",
+                transform=ax.get_yaxis_transform())
+        ax.text(0.02, 0.535, "NE34 e_min 0.53", fontsize=7, color="0.4",
+                transform=ax.get_yaxis_transform())
+        ax.set_xlabel("vertical stress σv (MPa)")
+        ax.set_ylabel("void ratio e, %s (-)" % what)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
     a2.set_xlabel("vertical stress σv (MPa)")
     a2.set_ylabel("grains broken (% of the initial grains)")
     a2.grid(True, which="both", alpha=0.3)

@@ -180,17 +180,17 @@ def oedometer_extras(out):
     import h5py
     with h5py.File(os.path.join(out, "oedometer.h5"), "r") as h:
         g = h["path"]
-        cols = {k: g[k][()] for k in ("sv", "e_void", "phase", "n_break", "Br", "Atoms")}
+        # e_core: the core's void ratio (decks since 2026-12-01; older logs lack it)
+        cols = {k: g[k][()] for k in ("sv", "e_void", "e_core", "phase", "n_break", "Br", "Atoms")
+                if k in g}
         psd = None
         if "psd" in h:
             psd = {k: h["psd"][k][()].tolist() for k in h["psd"].keys()}
-    keep, last = [], None
-    for i in range(len(cols["sv"])):
-        key = (int(cols["phase"][i]), round(np.log10(max(cols["sv"][i], 1.0)) / 0.02))
-        if key != last:
-            keep.append(i)
-            last = key
-    keep.append(len(cols["sv"]) - 1)
+    # the first row of each 0.02 step of log10(sigma_v) per phase, and the last row
+    band = np.round(np.log10(np.maximum(cols["sv"], 1.0)) / 0.02)
+    new = np.ones(band.size, bool)
+    new[1:] = (band[1:] != band[:-1]) | (cols["phase"][1:] != cols["phase"][:-1])
+    keep = np.append(np.flatnonzero(new), band.size - 1)
     from crushpost.oedometer import crushing_onset
     n0 = int(cols["Atoms"][0])
     onset = {}
