@@ -27,11 +27,25 @@ chamber_servo.in.
    porosity reached (above the target's tolerance) and the stress, prints no
    EXPANDED and no "prepared" line, and exits non-zero.
 
+3. A packing that cannot reach its target (the oedometer test's small cell,
+   R 3.5 d50, H 6 d50, core target 0.40, packing seed 2027: its core packs
+   down to the floor n_target - n_tol without carrying 5 kPa however high
+   the friction goes, docs/preparation.md): the deck stops as soon as the
+   friction can no longer be raised by 2 % (the next raise, to the
+   geometric mean of the last too-low friction and 0.275, the one it first
+   jammed too loose at, would be smaller), not after n_expand_max cycles,
+   with the reason in the error; the core is at the floor (0.395 within
+   2e-4). (Without the early stop it ran all 150 cycles, raising the
+   friction by ever smaller steps towards 0.275: 42 s against about 20 s.)
+
 Run time: test 1 takes 1.5 to 4 minutes on 2 shared cores (about 150,000
-steps of 683 grains), test 2 about 20 s.
+steps of 683 grains), tests 2 and 3 about 20 s each.
 """
 
+import math
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -161,3 +175,60 @@ def test_unreachable_target_stops_with_what_was_reached(tmp_path):
     # the number is the porosity the deck reached: that of the last cycle it printed
     cyc = re.findall(r"EXPAND cycle \d+: porosity_core ([0-9.eE+-]+)", log)
     assert cyc and abs(float(cyc[-1]) - reached) < 1e-3
+
+
+def _small_oedometer_cell(out, seed):
+    """examples/oedometer/run.py in the oedometer test's small cell, 1 rank;
+    returns (exit status, log text, prep_failed.txt text or None)."""
+    cmd = [sys.executable, str(harness.REPO / "examples" / "oedometer" / "run.py"), "--out", str(out),
+           "--np", "1", "--packing-seed", str(seed), "--R-d50", "3.5", "--H-d50", "6",
+           "--n-target", "0.40", "--sv-max", "5e6", "--dump-every", "0",
+           "--liggghts", str(harness.liggghts_bin())]
+    proc = subprocess.run(cmd, env=harness._child_env(), stdin=subprocess.DEVNULL,
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          universal_newlines=True, errors="replace", timeout=600)
+    failed = out / "prep_failed.txt"
+    return (proc.returncode, (out / harness.LOG_NAME).read_text(errors="replace"),
+            failed.read_text() if failed.exists() else None)
+
+
+def _failure_numbers(failed):
+    m = re.search(r"radius expansion, (\d+) cycles.*porosity_core ([0-9.eE+-]+) \(target 0.4 "
+                  r".*, p ([0-9.eE+-]+) Pa", failed)
+    assert m, failed
+    return int(m.group(1)), float(m.group(2)), float(m.group(3))
+
+
+def test_packing_that_cannot_reach_the_target_stops_early(tmp_path):
+    rc, log, failed = _small_oedometer_cell(tmp_path / "oed", 2027)
+    assert rc != 0 and "EXPANDED" not in log and failed, log[-2000:]
+    assert "PREPARATION FAILED (radius expansion" in failed
+    assert "friction that can no longer be raised" in failed, failed
+    cycles, n_core, _ = _failure_numbers(failed)
+    assert cycles < 150          # n_expand_max: it stopped early
+    assert abs(n_core - 0.395) < 2e-4
+    # the stop came when the next raise, to the geometric mean of the last
+    # too-low friction and the one it first jammed too loose at (mu_prep,
+    # 0.275), would be under 2 %; the raise before it was not
+    raised = [(float(a), float(b.rstrip(","))) for a, b in re.findall(
+        r"friction ([0-9.eE+-]+) too low, raised to ([0-9.eE+-]+)", log)]
+    assert raised and raised[-1][1] / raised[-1][0] >= 1.02
+    mu_stuck = float(re.search(r"without s_prep at friction ([0-9.eE+-]+):", log).group(1))
+    assert mu_stuck == pytest.approx(raised[-1][1], rel=1e-12)
+    assert math.sqrt(mu_stuck * 0.275) / mu_stuck < 1.02
+
+
+def test_packing_that_settles_below_the_target_stops_early(tmp_path):
+    # seed 2025: phase B ends at the target, but with the calibrated friction
+    # back the packing loses its stress and settles below n_target - n_tol,
+    # where no growth is allowed: three such cycles in a row end phase C
+    rc, log, failed = _small_oedometer_cell(tmp_path / "oed", 2025)
+    assert rc != 0 and "EXPANDED" not in log and failed, log[-2000:]
+    assert "settled below n_target - n_tol and lost s_prep" in failed, failed
+    _, n_core, p = _failure_numbers(failed)
+    assert n_core < 0.395 and p < 4500.0
+    relax = [(float(a), float(b)) for a, b in re.findall(
+        r"EXPAND relax cycle \d+: porosity_core ([0-9.eE+-]+) p_static ([0-9.eE+-]+)", log)]
+    assert 3 <= len(relax) < 150
+    assert all(n < 0.395 and ps < 4500.0 for n, ps in relax[-3:])
+    assert not (relax[-4][0] < 0.395 and relax[-4][1] < 4500.0)
