@@ -201,7 +201,7 @@ def plot_oedometer(res, img):
         e = np.array(p["e_void"])
         ph = np.array(p["phase"])
         ok = sv > 0.05
-        c = "C%d" % i
+        c = plt.cm.tab20(i % 20)      # more cases than the 10 default colours
         a1.semilogx(sv[ok & (ph == 0)], e[ok & (ph == 0)], "-", color=c, label=n + " loading")
         a1.semilogx(sv[ok & (ph == 1)], e[ok & (ph == 1)], "--", color=c, lw=0.8)
         # the core's void ratio: only runs whose deck wrote it (not the older ones)

@@ -113,6 +113,10 @@ for s in (2024, 2025, 2026, 2027, 2028, 2029, 2030, 2031):
         "--sv-max", "5e6", "--v-load", "1.25", "--thermo-every", "250", "--dump-every", "0"]}
 CASES["oed_unb_s2024"] = {"driver": "oedometer",
                           "args": ["--packing-seed", "2024", "--grains", "unbreakable"]}
+# a wider cell (R 7 d50, same height): does the core's void ratio depend on the cell?
+for g, tag in (("crushable_ne34", "crush"), ("unbreakable", "unb")):
+    CASES["oed_R7_%s_s2024" % tag] = {"driver": "oedometer",
+                                      "args": ["--packing-seed", "2024", "--grains", g, "--R-d50", "7"]}
 
 
 def run_case(name, np_ranks, work, binary, tree):
