@@ -143,7 +143,10 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
 
 def oedometer_metrics(summary):
     """The study's numbers of one oedometer run (summary.json of
-    examples/oedometer/run.py): void ratio at 10 and 30 MPa on loading,
-    Br at 30 MPa and at the end."""
-    return {k: summary.get(k) for k in ("e_at_10MPa", "e_at_30MPa", "Br_at_30MPa", "Br_final",
+    examples/oedometer/run.py): void ratio at 10 and 30 MPa on loading, of
+    the core (farther than d50 from the walls: independent of the cell's
+    width, docs/calibration.md) and of the whole cell, Br at 30 MPa and at
+    the end. Keys a summary lacks (runs before e_core was written) are None."""
+    return {k: summary.get(k) for k in ("e_core_at_10MPa", "e_core_at_30MPa", "e_at_10MPa",
+                                         "e_at_30MPa", "Br_at_30MPa", "Br_final",
                                          "n_break_events", "porosity_start_of_loading")}
