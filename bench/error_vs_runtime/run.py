@@ -474,7 +474,8 @@ def write_table(rows, path_md, path_png, ratio_rows=()):
         ax.set_ylabel("|relative error| of %s (-)" % m0)
         ax.set_title("%s: o Pareto front, x dominated; blue crushable, orange unbreakable" % scene,
                      fontsize=8)
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=7)
         ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(path_png, dpi=120)

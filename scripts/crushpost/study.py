@@ -10,6 +10,8 @@ plain arrays; the reading of run folders is in `chamber_metrics` and
 `oedometer_metrics`.
 """
 
+import warnings
+
 import numpy as np
 
 
@@ -38,8 +40,10 @@ def seed_scatter(values):
     over the mean magnitude (for two seeds, |a - b| / |a + b|). A variant's
     error inside this is noise. values: (n_seeds,) or (n_seeds, n_metrics)."""
     v = np.asarray(values, float)
-    mean = np.nanmean(v, axis=0)
-    half = 0.5 * (np.nanmax(v, axis=0) - np.nanmin(v, axis=0))
+    with warnings.catch_warnings():      # a metric no seed recorded: NaN, said below
+        warnings.simplefilter("ignore", RuntimeWarning)
+        mean = np.nanmean(v, axis=0)
+        half = 0.5 * (np.nanmax(v, axis=0) - np.nanmin(v, axis=0))
     ok = np.isfinite(mean) & (mean != 0)
     return np.where(ok, half / np.where(ok, np.abs(mean), 1.0), np.nan)
 
