@@ -48,7 +48,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import study  # noqa: E402
-from crushpost.runner import default_binary, snapshot_tree  # noqa: E402
+from crushpost.runner import default_binary, log_errors, snapshot_tree  # noqa: E402
 from crushpost.thermo import parse_log  # noqa: E402
 
 # NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
@@ -258,6 +258,13 @@ def claim(out):
     return True
 
 
+def stability_alarm(log):
+    """The message of fix check/stability (docs/stability.md) if the run
+    stopped on it, else None."""
+    alarms = [e for e in log_errors(log) if e.startswith("fix check/stability: unstable")]
+    return alarms[-1] if alarms else None
+
+
 def run_piece(p, root, np_, liggghts=None, tree=REPO):
     out = os.path.join(root, p["name"])
     os.makedirs(out, exist_ok=True)
@@ -286,6 +293,12 @@ def run_piece(p, root, np_, liggghts=None, tree=REPO):
     if os.path.exists(log):
         rec["particle_steps"], rec["particle_steps_test"] = log_particle_steps(log)
     summ_path = os.path.join(out, "summary.json")
+    unstable = stability_alarm(log) if rc != 0 else None
+    if unstable:
+        # the setting's own result (the same run stops the same way), not a
+        # failure to retry: recorded as done, listed apart in the table
+        rec["unstable"] = unstable
+        return rec
     if rc != 0 or not os.path.exists(summ_path):
         rec["error"] = "driver exit status %d (see %s)" % (rc, os.path.join(out, "driver.txt"))
         return rec
@@ -410,7 +423,7 @@ def qc_ratio(data):
              "noise": bool(noise[i]), "reference_scatter": scatter} for i, k in enumerate(keys)]
 
 
-def write_table(rows, path_md, path_png, ratio_rows=()):
+def write_table(rows, path_md, path_png, ratio_rows=(), unstable=()):
     lines = []
     for scene, metrics in (("chamber", CHAMBER_METRICS), ("oedometer", OEDO_METRICS)):
         sel = [r for r in rows if r["scene"] == scene]
@@ -438,6 +451,9 @@ def write_table(rows, path_md, path_png, ratio_rows=()):
             lines.append("")
             lines.append("%s %s reference scatter (half the seed range over the mean): %s" % (
                 scene, g, ", ".join("%s %.2g %%" % (m, 100 * v) for m, v in sc.items())))
+    if unstable:
+        lines += ["", "Runs stopped by the blow-up detector (fix check/stability, docs/stability.md):", ""]
+        lines += ["* %s: %s" % (name, msg) for name, msg in unstable]
     if ratio_rows:
         lines += ["", "chamber: unbreakable / crushable steady q_c, per setting run with both "
                   "(error against the reference's ratio, %%; 'noise': inside the ratio's seed "
@@ -510,7 +526,9 @@ def main(argv=None):
         for p in todo:
             r = data["runs"].get(p["name"])
             n, ps, ch = estimate(p)
-            state = "-" if r is None else ("error" if "error" in r else "done %.2f core-h" % (r["core_s"] / 3600))
+            state = ("-" if r is None else "error" if "error" in r else
+                     "unstable (fix check/stability)" if "unstable" in r else
+                     "done %.2f core-h" % (r["core_s"] / 3600))
             tot += ch if r is None or "error" in r else 0.0
             print("%-40s %8.0f %9.2e %8.2f  %s" % (p["name"], n, ps, ch, state))
         print("left: about %.0f core-hours" % tot)
@@ -525,9 +543,11 @@ def main(argv=None):
         rows = table(data)
         ratio_rows = qc_ratio(data)
         base = os.path.splitext(path)[0]
-        write_table(rows, base + "_table.md", base + "_error_vs_cost.png", ratio_rows)
+        unstable = sorted((n, r["unstable"]) for n, r in data["runs"].items() if "unstable" in r)
+        write_table(rows, base + "_table.md", base + "_error_vs_cost.png", ratio_rows, unstable)
         with open(base + "_table.json", "w") as f:
-            json.dump({"runs": rows, "qc_ratio_unbreakable_over_crushable": ratio_rows}, f, indent=1)
+            json.dump({"runs": rows, "qc_ratio_unbreakable_over_crushable": ratio_rows,
+                       "unstable": dict(unstable)}, f, indent=1)
         print("wrote %s_table.md, _table.json, _error_vs_cost.png (%d runs)" % (base, len(rows)))
         return 0
     if a.only:

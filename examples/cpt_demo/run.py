@@ -30,7 +30,6 @@ missed its target).
 """
 
 import argparse
-import contextlib
 import json
 import math
 import os
@@ -373,20 +372,6 @@ SCENE_FILE = "scene.json"    # grains placed, initial apex z, start time
 RESUME_OWN = ("np", "proc_grid", "liggghts", "json", "resume", "out")
 
 
-@contextlib.contextmanager
-def liggghts_errors_named(log):
-    """On a failed LIGGGHTS run, name its last ERROR line (e.g. "Lost atoms:
-    original ... current ...", or a preparation stage that missed its target)."""
-    try:
-        yield
-    except SystemExit:
-        if os.path.exists(log):
-            errors = [ln.strip() for ln in open(log, errors="replace") if ln.startswith("ERROR")]
-            if errors:
-                sys.stderr.write("cpt_demo: %s: %s\n" % (log, errors[-1]))
-        raise
-
-
 def resume(a):
     """Go on with the run in a.out from its last complete restart file as the
     next part (crushpost.restart); when it ends, merge the parts' series and
@@ -430,8 +415,7 @@ def resume(a):
     print("cpt_demo: part %d of the run in %s goes on from %s (step %d); LIGGGHTS on %d MPI "
           "ranks (log: %s)" % (k, out, path, step, a.np, log), flush=True)
     progress = ChamberProgress(out, a.depth, a.R_pile, files=files)
-    with liggghts_errors_named(log):
-        parts[-1]["wall_s"] = run_deck(a, out, scene["tip_z0"], progress, part=k, restart_file=path)
+    parts[-1]["wall_s"] = run_deck(a, out, scene["tip_z0"], progress, part=k, restart_file=path)
     rs.write_parts(out, parts)
     rs.merge_parts(out)
     # the first run (part 0) was killed: its wall time ends when its log last changed
@@ -524,8 +508,7 @@ def main(argv=None):
     print("cpt_demo: %d grains placed; LIGGGHTS on %d MPI ranks (log: %s)"
           % (n0, a.np, os.path.join(a.out, "log.liggghts")), flush=True)
     progress = ChamberProgress(a.out, 0.0 if a.prep_only else a.depth, a.R_pile)
-    with liggghts_errors_named(os.path.join(a.out, "log.liggghts")):
-        wall = run_deck(a, a.out, tip_z0, progress)
+    wall = run_deck(a, a.out, tip_z0, progress)
     if a.prep_only:
         summary = {"prep": prep_summary(a, a.out), "wall_time_s": wall, "mpi_ranks": a.np,
                    "n_particles_initial": int(n0), "N": a.N, "R_chamber_m": a.R_ch,

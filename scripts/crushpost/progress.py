@@ -17,10 +17,9 @@ how soon the sample reaches its targets.
 
 import os
 import subprocess
-import sys
 import time
 
-from .runner import mpirun_command
+from .runner import mpirun_command, stop_on_failure
 
 __all__ = ["ChamberProgress", "run_watched", "format_seconds"]
 
@@ -173,7 +172,5 @@ def run_watched(deck, workdir, variables, progress, np=1, binary=None, name="lig
     for line in progress.finish() if rc == 0 else progress.poll():
         write(line)
     if rc != 0:
-        sys.stderr.write("%s: LIGGGHTS failed (exit %d); see %s\n"
-                         % (name, rc, os.path.join(workdir, log)))
-        sys.exit(rc)
+        stop_on_failure(name, rc, os.path.join(workdir, log))
     return wall

@@ -11,7 +11,8 @@ import subprocess
 import sys
 import time
 
-__all__ = ["default_binary", "mpirun_command", "run_liggghts", "snapshot_tree"]
+__all__ = ["default_binary", "mpirun_command", "run_liggghts", "log_errors", "stop_on_failure",
+           "snapshot_tree"]
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -38,6 +39,28 @@ def mpirun_command(deck, variables, np=1, binary=None, log="log.liggghts", as_ro
     return cmd
 
 
+def log_errors(log_path):
+    """The ERROR lines of a LIGGGHTS log, in order, without the "ERROR: "
+    prefix ([] if the log is missing)."""
+    if not os.path.exists(log_path):
+        return []
+    with open(log_path, errors="replace") as f:
+        return [ln.strip()[len("ERROR:"):].strip() for ln in f if ln.startswith("ERROR")]
+
+
+def stop_on_failure(name, rc, log_path):
+    """After a failed LIGGGHTS run: say where the log is and what its last
+    ERROR line says (a lost atom, a preparation stage that missed its target,
+    the blow-up detector...), then exit with LIGGGHTS' status."""
+    errors = log_errors(log_path)
+    sys.stderr.write("%s: LIGGGHTS failed (exit %d); see %s\n" % (name, rc, log_path))
+    if errors:
+        # a deck's own stop (inputs/prep_stop_1.in) reaches LIGGGHTS as an unknown command
+        sys.stderr.write("%s: %s\n" % (name, errors[-1].replace("Unknown command: PREPARATION FAILED",
+                                                                 "PREPARATION FAILED", 1)))
+    sys.exit(rc)
+
+
 def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", log="log.liggghts"):
     """Run the deck in `workdir`; return the wall time in seconds. On failure
     print where the log is and exit with LIGGGHTS' exit code."""
@@ -48,9 +71,7 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", l
     rc = subprocess.call(cmd, cwd=workdir, env=env, stdin=subprocess.DEVNULL)
     wall = time.time() - t0
     if rc != 0:
-        sys.stderr.write("%s: LIGGGHTS failed (exit %d); see %s\n"
-                         % (name, rc, os.path.join(workdir, log)))
-        sys.exit(rc)
+        stop_on_failure(name, rc, os.path.join(workdir, log))
     return wall
 
 

@@ -35,3 +35,25 @@ def test_log_name_and_snapshot_tree(tmp_path):
             assert a.read() == b.read()
     assert os.path.exists(os.path.join(tree, "scripts", "crushpost", "restart.py"))
     assert not any("__pycache__" in d for d, _, _ in os.walk(tree))
+
+
+def test_a_failed_run_names_its_log_and_last_error(tmp_path, capsys):
+    import pytest
+
+    from crushpost.runner import log_errors, stop_on_failure
+
+    log = tmp_path / "log.liggghts"
+    log.write_text("LIGGGHTS (Version ...)\nERROR: first\nthermo ...\n"
+                   "ERROR: fix check/stability: unstable at step 7, signal 'move'\n")
+    assert log_errors(str(log)) == ["first", "fix check/stability: unstable at step 7, signal 'move'"]
+    assert log_errors(str(tmp_path / "missing")) == []
+    with pytest.raises(SystemExit) as exc:
+        stop_on_failure("oedometer", 3, str(log))
+    assert exc.value.code == 3
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["oedometer: LIGGGHTS failed (exit 3); see %s" % log,
+                   "oedometer: fix check/stability: unstable at step 7, signal 'move'"]
+    log.write_text("ERROR: Unknown command: PREPARATION FAILED (radius expansion, 6 cycles): ...\n")
+    with pytest.raises(SystemExit):
+        stop_on_failure("cpt", 1, str(log))
+    assert capsys.readouterr().err.splitlines()[1] == "cpt: PREPARATION FAILED (radius expansion, 6 cycles): ..."
