@@ -28,11 +28,15 @@ def _format(value):
 
 
 def mpirun_command(deck, variables, np=1, binary=None, log="log.liggghts", as_root=None):
-    """The command line: ``mpirun [--allow-run-as-root] --oversubscribe -np NP
-    BINARY -in DECK -log LOG -echo none -screen none -var k v ...``."""
+    """The command line: ``mpirun [--allow-run-as-root] --oversubscribe
+    --bind-to none -np NP BINARY -in DECK -log LOG -echo none -screen none
+    -var k v ...``. Unbound: Open MPI binds the ranks of a run of 1 or 2
+    ranks to the first cores, so runs started side by side (two 1-rank runs
+    on a 2-core machine) would all share core 0 while the other idles."""
     if as_root is None:
         as_root = hasattr(os, "geteuid") and os.geteuid() == 0
-    cmd = ["mpirun"] + (["--allow-run-as-root"] if as_root else []) + ["--oversubscribe", "-np", str(int(np))]
+    cmd = (["mpirun"] + (["--allow-run-as-root"] if as_root else [])
+           + ["--oversubscribe", "--bind-to", "none", "-np", str(int(np))])
     cmd += [binary or default_binary(), "-in", str(deck), "-log", log, "-echo", "none", "-screen", "none"]
     for key, value in variables.items():
         cmd += ["-var", str(key), _format(value)]

@@ -69,9 +69,11 @@ def liggghts_bin(wait_s=120.0):
 
 
 def mpirun_cmd(nprocs):
-    """The mpirun prefix for ``nprocs`` ranks (Open MPI flags)."""
+    """The mpirun prefix for ``nprocs`` ranks (Open MPI flags; unbound, so
+    that tests run side by side (ctest -j) do not share one core)."""
     mpirun = shutil.which("mpirun") or "mpirun"
-    return [mpirun, "--allow-run-as-root", "--oversubscribe", "-np", str(int(nprocs))]
+    return [mpirun, "--allow-run-as-root", "--oversubscribe", "--bind-to", "none",
+            "-np", str(int(nprocs))]
 
 
 def _child_env(extra=None):

@@ -6,11 +6,12 @@ from crushpost.runner import mpirun_command
 def test_command_line_order_and_values():
     cmd = mpirun_command("in.x", {"N": 39.0, "dt": 1.5e-7, "grain_model": "unbreakable", "n": 3},
                          np=2, binary="/b/liggghts", as_root=False)
-    assert cmd[:4] == ["mpirun", "--oversubscribe", "-np", "2"]
-    assert cmd[4:13] == ["/b/liggghts", "-in", "in.x", "-log", "log.liggghts",
+    # unbound: side-by-side 1-rank runs must not all be bound to core 0
+    assert cmd[:6] == ["mpirun", "--oversubscribe", "--bind-to", "none", "-np", "2"]
+    assert cmd[6:15] == ["/b/liggghts", "-in", "in.x", "-log", "log.liggghts",
                          "-echo", "none", "-screen", "none"]
-    pairs = dict(zip(cmd[14::3], cmd[15::3]))
-    assert cmd[13::3] == ["-var"] * 4
+    pairs = dict(zip(cmd[16::3], cmd[17::3]))
+    assert cmd[15::3] == ["-var"] * 4
     # floats keep all their digits
     assert pairs == {"N": "39.0", "dt": "1.5e-07", "grain_model": "unbreakable", "n": "3"}
     assert float(pairs["dt"]) == 1.5e-7
