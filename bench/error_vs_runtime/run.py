@@ -25,8 +25,8 @@ after each call. Run folders go to results/error_vs_runtime/ (ignored by git).
 A chamber piece longer than a session writes restart files while jacking;
 killed, it goes on from the last one at the next call (crushpost.restart:
 the merged series are those of one run; its particle-steps count the lost
-work too). Calls may run side by side (--np 1 each on a 2-core machine runs
-more particle-steps per core-second than one 2-rank call): each takes the
+work too). Calls may run side by side (--np 1 each on a 2-core machine; the
+drivers' mpirun does not bind ranks to cores): each takes the
 next piece no live call has claimed (running.pid in its folder) and adds
 its record to results.json as the file is then.
 """
@@ -577,8 +577,6 @@ def main(argv=None):
         finally:
             os.remove(os.path.join(root, p["name"], CLAIM))
         # read the file again: another call may have added its pieces meanwhile
-        # (two 1-rank calls on two cores run more particle-steps per core-second
-        # than one 2-rank call)
         data = load(path)
         data["runs"][p["name"]] = rec
         save(path, data)
