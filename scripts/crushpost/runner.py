@@ -81,13 +81,16 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", l
 
 def snapshot_tree(work, subdirs):
     """Copy ``subdirs`` of this checkout (drivers, deck blocks, crushpost)
-    into WORK/_tree_<time> and return that folder. LIGGGHTS reads an input
+    into a new folder WORK/_tree_<time>_<random> and return it. LIGGGHTS reads an input
     file as it reaches it, so a study that runs for hours runs its drivers
     from such a copy: an edit of the checkout meanwhile must not reach a run
     under way."""
     import shutil
+    import tempfile
 
-    dst = os.path.join(work, "_tree_%d" % int(time.time()))
+    # a fresh folder: two studies started in the same second must not share one
+    os.makedirs(work, exist_ok=True)
+    dst = tempfile.mkdtemp(prefix="_tree_%d_" % int(time.time()), dir=work)
     for sub in subdirs:
         shutil.copytree(os.path.join(REPO, sub), os.path.join(dst, sub),
                         ignore=shutil.ignore_patterns("__pycache__", "results*"))

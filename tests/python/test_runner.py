@@ -22,7 +22,7 @@ def test_root_flag():
     assert "--allow-run-as-root" not in mpirun_command("d", {}, as_root=False, binary="b")
 
 
-def test_log_name_and_snapshot_tree(tmp_path):
+def test_log_name_and_snapshot_tree(tmp_path, monkeypatch):
     import os
 
     from crushpost.runner import REPO, snapshot_tree
@@ -36,6 +36,12 @@ def test_log_name_and_snapshot_tree(tmp_path):
             assert a.read() == b.read()
     assert os.path.exists(os.path.join(tree, "scripts", "crushpost", "restart.py"))
     assert not any("__pycache__" in d for d, _, _ in os.walk(tree))
+    # two copies in the same second (the clock held) get their own folders
+    import crushpost.runner
+
+    monkeypatch.setattr(crushpost.runner.time, "time", lambda: 1.8e9)
+    first = snapshot_tree(str(tmp_path), ("inputs",))
+    assert snapshot_tree(str(tmp_path), ("inputs",)) != first
 
 
 def test_a_failed_run_names_its_log_and_last_error(tmp_path, capsys):
