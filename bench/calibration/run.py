@@ -55,7 +55,7 @@ from crushpost.runner import default_binary  # noqa: E402
 
 
 def snapshot_tree(work):
-    """The drivers, decks, blocks and scripts copied into WORK/_tree_<time>
+    """The drivers, decks, blocks and scripts copied into WORK/_tree_<time>_<random>
     (crushpost.runner.snapshot_tree)."""
     from crushpost.runner import snapshot_tree as copy_tree
 
