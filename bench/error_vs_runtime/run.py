@@ -451,6 +451,10 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=()):
             lines.append("")
             lines.append("%s %s reference scatter (half the seed range over the mean): %s" % (
                 scene, g, ", ".join("%s %.2g %%" % (m, 100 * v) for m, v in sc.items())))
+        if scene == "chamber" and "unbreakable" in scat:
+            lines += ["", "Br_band_1_2 of unbreakable runs is the measure's floor, not breakage: the "
+                      "band's grains now against those in it at the start, as the pile pushes grains "
+                      "from band to band (docs/error-vs-runtime.md); its errors are not read."]
     if unstable:
         lines += ["", "Runs stopped by the blow-up detector (fix check/stability, docs/stability.md):", ""]
         lines += ["* %s: %s" % (name, msg) for name, msg in unstable]
