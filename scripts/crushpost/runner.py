@@ -81,10 +81,10 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", l
 
 def snapshot_tree(work, subdirs):
     """Copy ``subdirs`` of this checkout (drivers, deck blocks, crushpost)
-    into a new folder WORK/_tree_<time>_<random> and return it. LIGGGHTS reads an input
-    file as it reaches it, so a study that runs for hours runs its drivers
-    from such a copy: an edit of the checkout meanwhile must not reach a run
-    under way."""
+    into a new folder WORK/_tree_<time>_<random> and return it. LIGGGHTS
+    reads an input file as it reaches it, so a study that runs for hours
+    runs its drivers from such a copy: an edit of the checkout meanwhile
+    must not reach a run under way."""
     import shutil
     import tempfile
 
