@@ -423,7 +423,51 @@ def qc_ratio(data):
              "noise": bool(noise[i]), "reference_scatter": scatter} for i, k in enumerate(keys)]
 
 
-def write_table(rows, path_md, path_png, ratio_rows=(), unstable=()):
+# chamber runs of the reference setting that repeat its trajectory with a
+# perturbation: the second seed, and the time steps 0.078 and 0.2 T_R,
+# which land on either side of the reference's 0.156 with no trend in any
+# number (docs/error-vs-runtime.md, "Run-to-run spread"). Together they
+# measure how far one run lands from another better than two seeds do.
+SPREAD_SETTINGS = ("ref", "ref_seed2025", "dt_frac=0.078", "dt_frac=0.2")
+
+
+def spread(data, settings=SPREAD_SETTINGS):
+    """Pooled run-to-run spread of the chamber's reference setting, per
+    grain model (mean and relative sample standard deviation of each metric
+    over the runs of `settings`) and for the unbreakable/crushable q_c
+    ratio; and every chamber run's error against that pooled mean, flagged
+    'noise' when inside two standard deviations."""
+    runs = [r for r in data["runs"].values() if "metrics" in r and r["scene"] == "chamber"]
+    out = {"settings": list(settings), "models": {}, "runs": []}
+    for grains in ("crushable_ne34", "unbreakable"):
+        sel = [r for r in runs if r["grains"] == grains]
+        rep = [r for r in sel if r["name"].split("_", 2)[2] in settings]
+        if len(rep) < 2:
+            continue
+        vec = lambda r: [np.nan if r["metrics"].get(m) is None else r["metrics"][m]
+                         for m in CHAMBER_METRICS]
+        mean, rel = study.replicate_spread(np.array([vec(r) for r in rep], float))
+        out["models"][grains] = {"runs": [r["name"] for r in rep],
+                                 "mean": dict(zip(CHAMBER_METRICS, mean.tolist())),
+                                 "rel_std": dict(zip(CHAMBER_METRICS, rel.tolist()))}
+        vals = np.array([vec(r) for r in sel], float)
+        err = study.relative_error(vals, np.broadcast_to(mean, vals.shape))
+        for k, r in enumerate(sel):
+            out["runs"].append({"name": r["name"], "grains": grains,
+                                "error": dict(zip(CHAMBER_METRICS, err[k].tolist())),
+                                "noise": dict(zip(CHAMBER_METRICS,
+                                                  study.is_noise(err[k], 2 * rel).tolist()))})
+    ratio = {r["setting"]: r["ratio"] for r in qc_ratio(data)}
+    rr = [ratio[k] for k in settings if k in ratio]
+    if len(rr) >= 2:
+        m, s = study.replicate_spread(np.array(rr))
+        out["qc_ratio"] = {"settings": [k for k in settings if k in ratio],
+                           "mean": float(m), "rel_std": float(s),
+                           "error": {k: float(study.relative_error(v, m)) for k, v in ratio.items()}}
+    return out
+
+
+def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows=None):
     lines = []
     for scene, metrics in (("chamber", CHAMBER_METRICS), ("oedometer", OEDO_METRICS)):
         sel = [r for r in rows if r["scene"] == scene]
@@ -467,6 +511,31 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=()):
             lines.append("| %s | %.3f | %s%s |" % (
                 r["setting"], r["ratio"], "%+.1f" % (100 * r["error"]) if np.isfinite(r["error"]) else "-",
                 ", noise" if r["noise"] else ""))
+    if spread_rows and spread_rows["models"]:
+        sp = spread_rows
+        lines += ["", "chamber: run-to-run spread of the reference setting, pooled over %s "
+                  "(mean, and sample standard deviation over the mean)" % ", ".join(sp["settings"]), "",
+                  "| grains | runs | " + " | ".join(CHAMBER_METRICS) + " |",
+                  "|---" * (len(CHAMBER_METRICS) + 2) + "|"]
+        for g, m in sp["models"].items():
+            lines.append("| %s | %d | %s |" % (g, len(m["runs"]), " | ".join(
+                "%.4g (%.2g %%)" % (m["mean"][k], 100 * m["rel_std"][k]) for k in CHAMBER_METRICS)))
+        if "qc_ratio" in sp:
+            q = sp["qc_ratio"]
+            lines += ["", "unbreakable / crushable steady q_c over %s: %.3f (%.2g %%)" % (
+                ", ".join(q["settings"]), q["mean"], 100 * q["rel_std"])]
+        lines += ["", "chamber: every run against the pooled mean (%; 'noise': inside two standard "
+                  "deviations)", "", "| run | " + " | ".join(CHAMBER_METRICS) + " | q_c ratio |",
+                  "|---" * (len(CHAMBER_METRICS) + 2) + "|"]
+        qerr = sp.get("qc_ratio", {}).get("error", {})
+        qsd = sp.get("qc_ratio", {}).get("rel_std", np.nan)
+        for r in sp["runs"]:
+            key = r["name"].split("_", 2)[2]
+            qe = qerr.get(key, np.nan) if r["grains"] == "crushable_ne34" else np.nan
+            lines.append("| %s | %s | %s |" % (r["name"], " | ".join(
+                ("%+.1f%s" % (100 * r["error"][k], ", noise" if r["noise"][k] else ""))
+                if np.isfinite(r["error"][k]) else "-" for k in CHAMBER_METRICS),
+                ("%+.1f%s" % (100 * qe, ", noise" if abs(qe) <= 2 * qsd else "")) if np.isfinite(qe) else ""))
     with open(path_md, "w") as f:
         f.write("\n".join(lines).lstrip() + "\n")
     import matplotlib
@@ -548,10 +617,12 @@ def main(argv=None):
         ratio_rows = qc_ratio(data)
         base = os.path.splitext(path)[0]
         unstable = sorted((n, r["unstable"]) for n, r in data["runs"].items() if "unstable" in r)
-        write_table(rows, base + "_table.md", base + "_error_vs_cost.png", ratio_rows, unstable)
+        spread_rows = spread(data)
+        write_table(rows, base + "_table.md", base + "_error_vs_cost.png", ratio_rows, unstable,
+                    spread_rows)
         with open(base + "_table.json", "w") as f:
             json.dump({"runs": rows, "qc_ratio_unbreakable_over_crushable": ratio_rows,
-                       "unstable": dict(unstable)}, f, indent=1)
+                       "unstable": dict(unstable), "chamber_spread": spread_rows}, f, indent=1)
         print("wrote %s_table.md, _table.json, _error_vs_cost.png (%d runs)" % (base, len(rows)))
         return 0
     if a.only:

@@ -48,6 +48,24 @@ def seed_scatter(values):
     return np.where(ok, half / np.where(ok, np.abs(mean), 1.0), np.nan)
 
 
+def replicate_spread(values):
+    """Mean and relative sample standard deviation (ddof 1, over the mean's
+    magnitude) of runs that repeat one setting, NaN-aware, along axis 0.
+    Two seeds give a thin estimate of how far a single chamber run lands
+    from another; runs that perturb the trajectory without a systematic
+    effect (docs/error-vs-runtime.md) add replicates. NaN where fewer than
+    two runs recorded the metric or the mean is 0.
+    values: (n_runs,) or (n_runs, n_metrics). Returns (mean, rel_std)."""
+    v = np.asarray(values, float)
+    n = np.sum(np.isfinite(v), axis=0)
+    with warnings.catch_warnings():      # a metric no run recorded: NaN, said below
+        warnings.simplefilter("ignore", RuntimeWarning)
+        mean = np.nanmean(v, axis=0)
+        sd = np.nanstd(v, axis=0, ddof=1)
+    ok = (n >= 2) & np.isfinite(mean) & (mean != 0)
+    return mean, np.where(ok, sd / np.where(ok, np.abs(mean), 1.0), np.nan)
+
+
 def is_noise(error, scatter):
     """True where |error| is inside the reference's scatter (elementwise)."""
     e = np.abs(np.asarray(error, float))

@@ -27,6 +27,17 @@ def test_relative_error_and_seed_scatter():
         [True, False, False, False]
 
 
+def test_replicate_spread_is_the_sample_std_over_the_mean():
+    # runs 9, 10, 11 and 14: mean 11, sample variance (4 + 1 + 0 + 9) / 3
+    mean, rel = study.replicate_spread(np.array([[9.0, 1.0], [10.0, np.nan], [11.0, np.nan],
+                                                 [14.0, np.nan]]))
+    assert mean[0] == pytest.approx(11.0)
+    assert rel[0] == pytest.approx(math.sqrt(14.0 / 3.0) / 11.0)
+    assert mean[1] == pytest.approx(1.0) and math.isnan(rel[1])   # one run: no spread
+    m, r = study.replicate_spread([-2.0, -4.0])
+    assert m == pytest.approx(-3.0) and r == pytest.approx(math.sqrt(2.0) / 3.0)
+
+
 def test_pareto_front_marks_the_runs_nothing_beats():
     cost = np.array([1.0, 2.0, 3.0, 2.0, 4.0, 1.0])
     err = np.array([0.5, 0.2, 0.1, 0.3, 0.1, np.nan])
