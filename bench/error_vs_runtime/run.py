@@ -452,11 +452,17 @@ def spread(data, settings=SPREAD_SETTINGS):
                                  "rel_std": dict(zip(CHAMBER_METRICS, rel.tolist()))}
         vals = np.array([vec(r) for r in sel], float)
         err = study.relative_error(vals, np.broadcast_to(mean, vals.shape))
+        cost_h = np.array([(r.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
+                           for r in sel])
+        # the second seed repeats the reference's setting: not a setting of its own
+        on_front = np.array([r["role"] != "reference_seed" for r in sel])
+        front = study.pareto_front(cost_h, np.where(on_front, err[:, 0], np.nan))
         for k, r in enumerate(sel):
-            out["runs"].append({"name": r["name"], "grains": grains,
+            out["runs"].append({"name": r["name"], "grains": grains, "core_h": float(cost_h[k]),
                                 "error": dict(zip(CHAMBER_METRICS, err[k].tolist())),
                                 "noise": dict(zip(CHAMBER_METRICS,
-                                                  study.is_noise(err[k], 2 * rel).tolist()))})
+                                                  study.is_noise(err[k], 2 * rel).tolist())),
+                                "pareto": bool(front[k])})
     ratio = {r["setting"]: r["ratio"] for r in qc_ratio(data)}
     rr = [ratio[k] for k in settings if k in ratio]
     if len(rr) >= 2:
@@ -465,6 +471,30 @@ def spread(data, settings=SPREAD_SETTINGS):
                            "mean": float(m), "rel_std": float(s),
                            "error": {k: float(study.relative_error(v, m)) for k, v in ratio.items()}}
     return out
+
+
+def _plot_pooled(ax, sp, m0):
+    """Chamber panel: |error against the pooled mean of the reference
+    setting| against cost, two pooled standard deviations dashed."""
+    for r in sp["runs"]:
+        e = r["error"][m0]
+        if not np.isfinite(e):
+            continue
+        col = "C0" if r["grains"] == "crushable_ne34" else "C1"
+        y = max(abs(e), 1e-4)
+        ax.loglog(r["core_h"], y, "o" if r["pareto"] else "x", color=col)
+        ax.annotate(r["name"].split("_", 2)[-1], (r["core_h"], y), fontsize=6)
+    for g, col in (("crushable_ne34", "C0"), ("unbreakable", "C1")):
+        m = sp["models"].get(g)
+        if m and np.isfinite(m["rel_std"][m0]):
+            ax.axhline(2 * m["rel_std"][m0], color=col, ls="--", lw=0.8,
+                       label="%s: 2 sd of the reference setting's %d runs" % (g, len(m["runs"])))
+    ax.set_xlabel("cost (core-hours at %.2g particle-steps per core-second)" % RATE_PER_CORE_S)
+    ax.set_ylabel("|error of %s against the pooled mean| (-)" % m0)
+    ax.set_title("chamber: o Pareto front, x dominated; blue crushable, orange unbreakable",
+                 fontsize=8)
+    ax.legend(fontsize=7)
+    ax.grid(True, which="both", alpha=0.3)
 
 
 def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows=None):
@@ -525,17 +555,19 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
             lines += ["", "unbreakable / crushable steady q_c over %s: %.3f (%.2g %%)" % (
                 ", ".join(q["settings"]), q["mean"], 100 * q["rel_std"])]
         lines += ["", "chamber: every run against the pooled mean (%; 'noise': inside two standard "
-                  "deviations)", "", "| run | " + " | ".join(CHAMBER_METRICS) + " | q_c ratio |",
-                  "|---" * (len(CHAMBER_METRICS) + 2) + "|"]
+                  "deviations; Pareto: cost against |error in q_c|)", "",
+                  "| run | " + " | ".join(CHAMBER_METRICS) + " | q_c ratio | Pareto |",
+                  "|---" * (len(CHAMBER_METRICS) + 3) + "|"]
         qerr = sp.get("qc_ratio", {}).get("error", {})
         qsd = sp.get("qc_ratio", {}).get("rel_std", np.nan)
         for r in sp["runs"]:
             key = r["name"].split("_", 2)[2]
             qe = qerr.get(key, np.nan) if r["grains"] == "crushable_ne34" else np.nan
-            lines.append("| %s | %s | %s |" % (r["name"], " | ".join(
+            lines.append("| %s | %s | %s | %s |" % (r["name"], " | ".join(
                 ("%+.1f%s" % (100 * r["error"][k], ", noise" if r["noise"][k] else ""))
                 if np.isfinite(r["error"][k]) else "-" for k in CHAMBER_METRICS),
-                ("%+.1f%s" % (100 * qe, ", noise" if abs(qe) <= 2 * qsd else "")) if np.isfinite(qe) else ""))
+                ("%+.1f%s" % (100 * qe, ", noise" if abs(qe) <= 2 * qsd else "")) if np.isfinite(qe) else "",
+                "yes" if r["pareto"] else ""))
     with open(path_md, "w") as f:
         f.write("\n".join(lines).lstrip() + "\n")
     import matplotlib
@@ -546,6 +578,9 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
     for ax, scene in zip(axes[0], scenes):
         sel = [r for r in rows if r["scene"] == scene]
         m0 = (CHAMBER_METRICS if scene == "chamber" else OEDO_METRICS)[0]
+        if scene == "chamber" and spread_rows and spread_rows["models"]:
+            _plot_pooled(ax, spread_rows, m0)
+            continue
         for r in sel:
             e = r["error"][m0]
             if not np.isfinite(e) or r["role"] == "reference":
