@@ -346,6 +346,12 @@ CHAMBER_METRICS = ["qc_steady_MPa", "Br_band_1_2", "sigma_r_2R_kPa"]
 OEDO_METRICS = ["e_core_at_10MPa", "e_core_at_30MPa", "Br_at_30MPa", "e_at_10MPa", "e_at_30MPa"]
 
 
+def cost_core_h(run):
+    """A run's cost: its particle-steps at the measured rate, in core-hours
+    (deterministic; the wall times here carry the load of the shared cores)."""
+    return (run.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
+
+
 def table(data):
     """Rows of the study, per scene and grain model: cost, and the error of
     each run against the reference run with the same packing seed (every
@@ -377,10 +383,7 @@ def table(data):
                              same_seed.get(r["setting"]["packing_seed"], np.full(len(metrics), np.nan))
                              for r in sel])
             err = study.relative_error(vals, base)
-            # cost: particle-steps at the measured rate (deterministic; the
-            # wall times here carry the load of the shared cores)
-            cost_h = np.array([(r.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
-                               for r in sel])
+            cost_h = np.array([cost_core_h(r) for r in sel])
             on_front = np.array([r["role"] != "reference_seed" for r in sel])
             front = study.pareto_front(cost_h, np.where(on_front, err[:, 0], np.nan))
             for k, r in enumerate(sel):
@@ -452,8 +455,7 @@ def spread(data, settings=SPREAD_SETTINGS):
                                  "rel_std": dict(zip(CHAMBER_METRICS, rel.tolist()))}
         vals = np.array([vec(r) for r in sel], float)
         err = study.relative_error(vals, np.broadcast_to(mean, vals.shape))
-        cost_h = np.array([(r.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
-                           for r in sel])
+        cost_h = np.array([cost_core_h(r) for r in sel])
         # the second seed repeats the reference's setting: not a setting of its own
         on_front = np.array([r["role"] != "reference_seed" for r in sel])
         front = study.pareto_front(cost_h, np.where(on_front, err[:, 0], np.nan))
@@ -473,27 +475,27 @@ def spread(data, settings=SPREAD_SETTINGS):
     return out
 
 
-def _plot_pooled(ax, sp, m0):
-    """Chamber panel: |error against the pooled mean of the reference
-    setting| against cost, two pooled standard deviations dashed."""
-    for r in sp["runs"]:
-        e = r["error"][m0]
+COLOUR = {"crushable_ne34": "C0", "unbreakable": "C1"}
+
+
+def _plot_panel(ax, points, levels, ylabel, title):
+    """|error| against cost on log axes. points: (name, grains, core_h,
+    error, on the Pareto front); levels: (grains, |error| to dash, label)."""
+    for name, grains, core_h, e, pareto in points:
         if not np.isfinite(e):
             continue
-        col = "C0" if r["grains"] == "crushable_ne34" else "C1"
         y = max(abs(e), 1e-4)
-        ax.loglog(r["core_h"], y, "o" if r["pareto"] else "x", color=col)
-        ax.annotate(r["name"].split("_", 2)[-1], (r["core_h"], y), fontsize=6)
-    for g, col in (("crushable_ne34", "C0"), ("unbreakable", "C1")):
-        m = sp["models"].get(g)
-        if m and np.isfinite(m["rel_std"][m0]):
-            ax.axhline(2 * m["rel_std"][m0], color=col, ls="--", lw=0.8,
-                       label="%s: 2 sd of the reference setting's %d runs" % (g, len(m["runs"])))
+        ax.loglog(core_h, y, "o" if pareto else "x", color=COLOUR[grains])
+        ax.annotate(name.split("_", 2)[-1], (core_h, y), fontsize=6)
+    for grains, y, label in levels:
+        if np.isfinite(y):
+            ax.axhline(y, color=COLOUR[grains], ls="--", lw=0.8, label=label)
     ax.set_xlabel("cost (core-hours at %.2g particle-steps per core-second)" % RATE_PER_CORE_S)
-    ax.set_ylabel("|error of %s against the pooled mean| (-)" % m0)
-    ax.set_title("chamber: o Pareto front, x dominated; blue crushable, orange unbreakable",
+    ax.set_ylabel(ylabel)
+    ax.set_title("%s: o Pareto front, x dominated; blue crushable, orange unbreakable" % title,
                  fontsize=8)
-    ax.legend(fontsize=7)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
     ax.grid(True, which="both", alpha=0.3)
 
 
@@ -579,28 +581,20 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
         sel = [r for r in rows if r["scene"] == scene]
         m0 = (CHAMBER_METRICS if scene == "chamber" else OEDO_METRICS)[0]
         if scene == "chamber" and spread_rows and spread_rows["models"]:
-            _plot_pooled(ax, spread_rows, m0)
-            continue
-        for r in sel:
-            e = r["error"][m0]
-            if not np.isfinite(e) or r["role"] == "reference":
-                continue
-            col = "C0" if r["grains"] == "crushable_ne34" else "C1"
-            y = max(abs(e), 1e-4)
-            ax.loglog(r["core_h"], y, "o" if r["pareto"] else "x", color=col)
-            ax.annotate(r["name"].split("_", 2)[-1], (r["core_h"], y), fontsize=6)
-        for g, col in (("crushable_ne34", "C0"), ("unbreakable", "C1")):
-            sc = [r["reference_scatter"][m0] for r in sel if r["grains"] == g]
-            if sc and np.isfinite(sc[0]):
-                ax.axhline(sc[0], color=col, ls="--", lw=0.8,
-                           label="%s: reference seed scatter" % g)
-        ax.set_xlabel("cost (core-hours at %.2g particle-steps per core-second)" % RATE_PER_CORE_S)
-        ax.set_ylabel("|relative error| of %s (-)" % m0)
-        ax.set_title("%s: o Pareto front, x dominated; blue crushable, orange unbreakable" % scene,
-                     fontsize=8)
-        if ax.get_legend_handles_labels()[0]:
-            ax.legend(fontsize=7)
-        ax.grid(True, which="both", alpha=0.3)
+            # the chamber against the pooled mean of the reference setting's runs
+            sp = spread_rows
+            points = [(r["name"], r["grains"], r["core_h"], r["error"][m0], r["pareto"])
+                      for r in sp["runs"]]
+            levels = [(g, 2 * m["rel_std"][m0], "%s: 2 sd of the reference setting's %d runs"
+                       % (g, len(m["runs"]))) for g, m in sp["models"].items()]
+            ylabel = "|error of %s against the pooled mean| (-)" % m0
+        else:
+            points = [(r["name"], r["grains"], r["core_h"], r["error"][m0], r["pareto"])
+                      for r in sel if r["role"] != "reference"]
+            scat = {r["grains"]: r["reference_scatter"][m0] for r in sel}
+            levels = [(g, v, "%s: reference seed scatter" % g) for g, v in scat.items()]
+            ylabel = "|relative error| of %s (-)" % m0
+        _plot_panel(ax, points, levels, ylabel, scene)
     fig.tight_layout()
     fig.savefig(path_png, dpi=120)
     plt.close(fig)
