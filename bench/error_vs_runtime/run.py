@@ -352,6 +352,11 @@ def cost_core_h(run):
     return (run.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
 
 
+def metric_values(run, metrics):
+    """A run's recorded metrics in the given order, NaN where not recorded."""
+    return [np.nan if run["metrics"].get(m) is None else run["metrics"][m] for m in metrics]
+
+
 def table(data):
     """Rows of the study, per scene and grain model: cost, and the error of
     each run against the reference run with the same packing seed (every
@@ -370,7 +375,7 @@ def table(data):
                 continue
 
             def vec(r):
-                return [np.nan if r["metrics"].get(m) is None else r["metrics"][m] for m in metrics]
+                return metric_values(r, metrics)
 
             ref_vals = np.array([vec(r) for r in refs], float)
             scatter = study.seed_scatter(ref_vals) if len(refs) > 1 else np.full(len(metrics), np.nan)
@@ -447,8 +452,7 @@ def spread(data, settings=SPREAD_SETTINGS):
         rep = [r for r in sel if r["name"].split("_", 2)[2] in settings]
         if len(rep) < 2:
             continue
-        vec = lambda r: [np.nan if r["metrics"].get(m) is None else r["metrics"][m]
-                         for m in CHAMBER_METRICS]
+        vec = lambda r: metric_values(r, CHAMBER_METRICS)
         mean, rel = study.replicate_spread(np.array([vec(r) for r in rep], float))
         out["models"][grains] = {"runs": [r["name"] for r in rep],
                                  "mean": dict(zip(CHAMBER_METRICS, mean.tolist())),
