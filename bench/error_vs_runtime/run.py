@@ -374,14 +374,11 @@ def table(data):
             if not ref:
                 continue
 
-            def vec(r):
-                return metric_values(r, metrics)
-
-            ref_vals = np.array([vec(r) for r in refs], float)
+            ref_vals = np.array([metric_values(r, metrics) for r in refs], float)
             scatter = study.seed_scatter(ref_vals) if len(refs) > 1 else np.full(len(metrics), np.nan)
-            vals = np.array([vec(r) for r in sel], float)
-            same_seed = {r["setting"]["packing_seed"]: np.array(vec(r), float) for r in refs}
-            ref0 = np.array(vec(ref[0]), float)
+            vals = np.array([metric_values(r, metrics) for r in sel], float)
+            same_seed = {r["setting"]["packing_seed"]: np.array(metric_values(r, metrics), float) for r in refs}
+            ref0 = np.array(metric_values(ref[0], metrics), float)
             # a variant against the reference of its own seed; the second
             # seed's reference against the first (that error is the scatter)
             base = np.array([ref0 if r["role"] == "reference_seed" else
@@ -452,12 +449,11 @@ def spread(data, settings=SPREAD_SETTINGS):
         rep = [r for r in sel if r["name"].split("_", 2)[2] in settings]
         if len(rep) < 2:
             continue
-        vec = lambda r: metric_values(r, CHAMBER_METRICS)
-        mean, rel = study.replicate_spread(np.array([vec(r) for r in rep], float))
+        mean, rel = study.replicate_spread(np.array([metric_values(r, CHAMBER_METRICS) for r in rep], float))
         out["models"][grains] = {"runs": [r["name"] for r in rep],
                                  "mean": dict(zip(CHAMBER_METRICS, mean.tolist())),
                                  "rel_std": dict(zip(CHAMBER_METRICS, rel.tolist()))}
-        vals = np.array([vec(r) for r in sel], float)
+        vals = np.array([metric_values(r, CHAMBER_METRICS) for r in sel], float)
         err = study.relative_error(vals, np.broadcast_to(mean, vals.shape))
         cost_h = np.array([cost_core_h(r) for r in sel])
         # the second seed repeats the reference's setting: not a setting of its own
