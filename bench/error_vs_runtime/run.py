@@ -377,8 +377,8 @@ def table(data):
             ref_vals = np.array([metric_values(r, metrics) for r in refs], float)
             scatter = study.seed_scatter(ref_vals) if len(refs) > 1 else np.full(len(metrics), np.nan)
             vals = np.array([metric_values(r, metrics) for r in sel], float)
-            same_seed = {r["setting"]["packing_seed"]: np.array(metric_values(r, metrics), float) for r in refs}
-            ref0 = np.array(metric_values(ref[0], metrics), float)
+            same_seed = {r["setting"]["packing_seed"]: v for r, v in zip(refs, ref_vals)}
+            ref0 = ref_vals[refs.index(ref[0])]
             # a variant against the reference of its own seed; the second
             # seed's reference against the first (that error is the scatter)
             base = np.array([ref0 if r["role"] == "reference_seed" else
