@@ -4,6 +4,7 @@
     python3 bench/error_vs_runtime/run.py --list            # the pieces and their state
     python3 bench/error_vs_runtime/run.py [--only NAME ...] [--budget-h H] [--np N]
     python3 bench/error_vs_runtime/run.py --table           # table + plot from results.json
+    python3 bench/error_vs_runtime/run.py --carry           # pack killed pieces for git
     python3 bench/error_vs_runtime/run.py --smoke           # the whole chain on tiny scenes
 
 One reference setting of the chamber (and of the oedometer) and variants
@@ -25,7 +26,10 @@ after each call. Run folders go to results/error_vs_runtime/ (ignored by git).
 A chamber piece longer than a session writes restart files while jacking;
 killed, it goes on from the last one at the next call (crushpost.restart:
 the merged series are those of one run; its particle-steps count the lost
-work too). Calls may run side by side (--np 1 each on a 2-core machine; the
+work too). The run folders stay on the machine; --carry packs each killed
+piece's resumable state into carry/<piece>.tar.xz here, to be committed, so
+that a call on a new machine (a fresh clone) unpacks it and goes on from it;
+the carry is removed when the piece's record is added. Calls may run side by side (--np 1 each on a 2-core machine; the
 drivers' mpirun does not bind ranks to cores): each takes the
 next piece no live call has claimed (running.pid in its folder) and adds
 its record to results.json as the file is then.
@@ -47,6 +51,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 
 import numpy as np  # noqa: E402
 
+from crushpost import restart as rs  # noqa: E402
 from crushpost import study  # noqa: E402
 from crushpost.runner import default_binary, log_errors, snapshot_tree  # noqa: E402
 from crushpost.thermo import parse_log  # noqa: E402
@@ -238,6 +243,34 @@ def resumable(out):
 
 
 CLAIM = "running.pid"        # in a piece's folder while a call runs it
+CARRY = os.path.join(HERE, "carry")   # killed pieces' resumable state, in git
+
+
+def carry_path(name, carry_dir=CARRY):
+    return os.path.join(carry_dir, name + ".tar.xz")
+
+
+def carry_out(root, names, carry_dir=CARRY):
+    """Pack every killed piece among ``names`` (its folder in ``root`` is
+    resumable) into carry/<piece>.tar.xz; [(name, restart step, MB)]."""
+    packed = []
+    for name in names:
+        out = os.path.join(root, name)
+        if not resumable(out):
+            continue
+        path = carry_path(name, carry_dir)
+        step = rs.pack_carry(out, path)
+        packed.append((name, step, os.path.getsize(path) / 1e6))
+    return packed
+
+
+def carry_in(out, name, carry_dir=CARRY):
+    """Lay a carried piece out in ``out`` when the folder has no run of its
+    own to go on from; the restart step, or None if nothing was unpacked."""
+    path = carry_path(name, carry_dir)
+    if not os.path.exists(path) or resumable(out) or os.path.exists(os.path.join(out, "summary.json")):
+        return None
+    return rs.unpack_carry(path, out)
 
 
 def claim(out):
@@ -616,6 +649,9 @@ def main(argv=None):
                     help="write table.md and error_vs_cost.png from the results")
     ap.add_argument("--recost", action="store_true",
                     help="recount the particle-steps of the recorded runs from their logs (if still there)")
+    ap.add_argument("--carry", action="store_true",
+                    help="pack every killed piece's resumable state into carry/<piece>.tar.xz "
+                    "(commit it: a call on a new machine goes on from it)")
     ap.add_argument("--results", default=None, help="results file (default results.json here)")
     ap.add_argument("--work", default=os.path.join(REPO, "results", "error_vs_runtime"))
     a = ap.parse_args(argv)
@@ -628,12 +664,23 @@ def main(argv=None):
         for p in todo:
             r = data["runs"].get(p["name"])
             n, ps, ch = estimate(p)
-            state = ("-" if r is None else "error" if "error" in r else
+            carried = os.path.exists(carry_path(p["name"]))
+            state = (("carried from step %d" % rs.carry_step(carry_path(p["name"])))
+                     if r is None and carried else
+                     "-" if r is None else "error" if "error" in r else
                      "unstable (fix check/stability)" if "unstable" in r else
                      "done %.2f core-h" % (r["core_s"] / 3600))
             tot += ch if r is None or "error" in r else 0.0
             print("%-40s %8.0f %9.2e %8.2f  %s" % (p["name"], n, ps, ch, state))
         print("left: about %.0f core-hours" % tot)
+        return 0
+    if a.carry:
+        root = a.work + ("_smoke" if a.smoke else "")
+        packed = carry_out(root, [p["name"] for p in todo])
+        for name, step, mb in packed:
+            print("%s: restart step %d -> %s (%.1f MB)" % (name, step, carry_path(name), mb))
+        if not packed:
+            print("no killed piece with a restart file under %s" % root)
         return 0
     if a.recost:
         for name, r in data["runs"].items():
@@ -673,6 +720,10 @@ def main(argv=None):
         if not claim(os.path.join(root, p["name"])):
             print("%s: another call is running it; next" % p["name"], flush=True)
             continue
+        step = carry_in(os.path.join(root, p["name"]), p["name"])
+        if step is not None:
+            print("%s: unpacked %s (restart step %d)" % (p["name"], carry_path(p["name"]), step),
+                  flush=True)
         print("running %s ..." % p["name"], flush=True)
         if tree is None:
             tree = snapshot_tree(root, TREE_PARTS)
@@ -686,6 +737,11 @@ def main(argv=None):
         save(path, data)
         print("  %s: %.0f s, %s" % (p["name"], rec["wall_s"], rec.get("error") or rec.get("metrics")),
               flush=True)
+        if "error" not in rec and os.path.exists(carry_path(p["name"])) and not a.smoke:
+            # the record holds the result now: the carried state is spent
+            os.remove(carry_path(p["name"]))
+            print("  removed %s (commit its removal with results.json)" % carry_path(p["name"]),
+                  flush=True)
     return 0
 
 

@@ -24,12 +24,14 @@ import json
 import os
 import re
 import shutil
+import tarfile
 
 import numpy as np
 
 __all__ = ["LATEST", "PARTS", "SERIES", "latest_restart", "read_parts", "write_parts",
            "part_name", "keep_before", "merge_series_text", "merge_parts", "part_walls",
-           "stale_snapshots", "clear_parts", "infer_parts", "part_files"]
+           "stale_snapshots", "clear_parts", "infer_parts", "part_files", "pack_carry",
+           "unpack_carry", "carry_step"]
 
 LATEST = os.path.join("restart", "latest.txt")
 PARTS = os.path.join("restart", "parts.json")
@@ -238,3 +240,100 @@ def infer_parts(out):
     if not parts:
         raise RestartError("%s: no %s: no part to merge" % (out, part_name(LOG, 1)))
     return parts
+
+
+# --- carrying a killed run to another machine -------------------------------
+# A run folder is not in git, and a session may get a new machine with the
+# work tree laid anew: a study piece longer than a session would then start
+# again from its packing every time. pack_carry writes what resuming reads
+# (bench/error_vs_runtime/run.py --carry) into one compressed file that can
+# be committed; unpack_carry lays it out again where the next part runs.
+CARRY_SKIP = ("running.pid",)           # a claim of a live process, not state
+
+
+def carry_members(out):
+    """The files of the run in ``out`` that resuming needs, as paths relative
+    to ``out``: everything but the restart file that latest.txt does not name
+    (the one being overwritten in turn) and CARRY_SKIP; RestartError if the
+    run has no complete restart file or is complete (summary.json)."""
+    out = os.fspath(out)
+    step, latest = latest_restart(out)
+    if os.path.exists(os.path.join(out, "summary.json")):
+        raise RestartError("%s: the run is complete (summary.json): nothing to carry" % out)
+    restart_dir = os.path.join(out, "restart")
+    members = []
+    for base, dirs, files in os.walk(out):
+        dirs.sort()
+        for name in sorted(files):
+            path = os.path.join(base, name)
+            if name in CARRY_SKIP and base == out:
+                continue
+            if (os.path.dirname(path) == restart_dir and name.endswith(".restart")
+                    and os.path.abspath(path) != os.path.abspath(latest)):
+                continue
+            members.append(os.path.relpath(path, out))
+    return members
+
+
+def pack_carry(out, archive):
+    """Write the resumable state of the run in ``out`` to ``archive`` (a
+    .tar.xz; file times kept: a killed part's wall time ends at its log's last
+    change, part_walls); returns the restart step it goes on from."""
+    step, _ = latest_restart(out)
+    members = carry_members(out)
+    os.makedirs(os.path.dirname(os.path.abspath(archive)), exist_ok=True)
+    tmp = archive + ".tmp"
+    with tarfile.open(tmp, "w:xz") as tar:
+        for rel in members:
+            tar.add(os.path.join(out, rel), arcname=rel, recursive=False)
+    os.replace(tmp, archive)
+    return step
+
+
+def _safe(name):
+    parts = name.replace("\\", "/").split("/")
+    return not (name.startswith("/") or ".." in parts or not name)
+
+
+def carry_step(archive):
+    """The restart step the carried run in ``archive`` goes on from (its
+    restart/latest.txt); RestartError naming the file if it is not a carry."""
+    try:
+        with tarfile.open(archive, "r:*") as tar:
+            f = tar.extractfile(LATEST.replace(os.sep, "/"))
+            words = f.read().decode().split()
+    except (OSError, KeyError, tarfile.TarError, AttributeError) as exc:
+        raise RestartError("%s: not a carried run (%s)" % (archive, exc)) from None
+    if len(words) != 2 or not re.fullmatch(r"\d+", words[0]):
+        raise RestartError("%s: %s: expected 'STEP FILE', found %r" % (archive, LATEST, " ".join(words)))
+    return int(words[0])
+
+
+def unpack_carry(archive, out):
+    """Lay the carried run in ``archive`` out in ``out`` to be resumed;
+    returns its restart step. Refuses (RestartError) to overwrite a folder
+    that holds a run of its own (restart/latest.txt or summary.json), and an
+    archive with a member that is not a plain file or folder below ``out``."""
+    for own in (LATEST, "summary.json"):
+        if os.path.exists(os.path.join(out, own)):
+            raise RestartError("%s exists: %s holds a run of its own; not overwritten by %s"
+                               % (os.path.join(out, own), out, archive))
+    step = carry_step(archive)
+    with tarfile.open(archive, "r:*") as tar:
+        members = tar.getmembers()
+        bad = [m.name for m in members if not (m.isfile() or m.isdir()) or not _safe(m.name)]
+        if bad:
+            raise RestartError("%s: member(s) %s are not plain files below the run folder"
+                               % (archive, ", ".join(bad)))
+        os.makedirs(out, exist_ok=True)
+        for m in members:
+            dest = os.path.join(out, m.name)
+            if m.isdir():
+                os.makedirs(dest, exist_ok=True)
+                continue
+            os.makedirs(os.path.dirname(dest), exist_ok=True)
+            with tar.extractfile(m) as src, open(dest + ".tmp", "wb") as dst:
+                shutil.copyfileobj(src, dst)
+            os.replace(dest + ".tmp", dest)
+            os.utime(dest, (m.mtime, m.mtime))
+    return step

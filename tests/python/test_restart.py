@@ -147,3 +147,93 @@ def test_part_files():
     assert rs.part_files(0) == {"log": "log.liggghts", "jack": "jack.txt",
                                 "events": "breakage_events.txt", "spheres": "spheres.txt"}
     assert rs.part_files(3)["events"] == "breakage_events.part3.txt"
+
+
+def killed_run(out):
+    """A run folder as a killed jacking run leaves it: two restart files in
+    turn, latest.txt naming the complete one, a claim and a snapshot."""
+    (out / "restart").mkdir(parents=True)
+    (out / "restart" / "jack_0.restart").write_bytes(b"\x00complete" * 100)
+    (out / "restart" / "jack_1.restart").write_bytes(b"half written")
+    (out / "restart" / "latest.txt").write_text("200001 restart/jack_0.restart\n")
+    (out / "snapshots").mkdir()
+    (out / "snapshots" / "prep_5000.h5").write_bytes(b"h5")
+    (out / "jack.txt").write_text(series([0, 100000, 200000], "a"))
+    (out / "log.liggghts").write_text("Step Atoms\n")
+    (out / "running.pid").write_text("12345\n")
+    import os
+    os.utime(out / "log.liggghts", (1.7e9, 1.7e9))
+
+
+def test_carry_round_trip_keeps_what_resuming_reads_and_the_log_time(tmp_path):
+    killed_run(tmp_path / "a")
+    assert rs.carry_members(tmp_path / "a") == [
+        "jack.txt", "log.liggghts", "restart/jack_0.restart", "restart/latest.txt",
+        "snapshots/prep_5000.h5"]
+    archive = str(tmp_path / "carry" / "a.tar.xz")
+    assert rs.pack_carry(str(tmp_path / "a"), archive) == 200001
+    assert rs.carry_step(archive) == 200001
+    assert rs.unpack_carry(archive, str(tmp_path / "b")) == 200001
+    b = tmp_path / "b"
+    assert rs.latest_restart(str(b))[0] == 200001
+    assert (b / "restart" / "jack_0.restart").read_bytes() == b"\x00complete" * 100
+    assert not (b / "restart" / "jack_1.restart").exists()
+    assert not (b / "running.pid").exists()
+    assert (b / "jack.txt").read_text() == (tmp_path / "a" / "jack.txt").read_text()
+    # a killed part's wall time ends at its log's last change (part_walls)
+    assert (b / "log.liggghts").stat().st_mtime == 1.7e9
+
+
+def test_carry_refuses_a_complete_run_and_never_overwrites_a_run(tmp_path):
+    killed_run(tmp_path / "a")
+    archive = str(tmp_path / "a.tar.xz")
+    rs.pack_carry(str(tmp_path / "a"), archive)
+    with pytest.raises(rs.RestartError, match="holds a run of its own"):
+        rs.unpack_carry(archive, str(tmp_path / "a"))
+    (tmp_path / "a" / "summary.json").write_text("{}")
+    with pytest.raises(rs.RestartError, match="the run is complete"):
+        rs.pack_carry(str(tmp_path / "a"), str(tmp_path / "b.tar.xz"))
+    with pytest.raises(rs.RestartError, match="no such file"):
+        rs.pack_carry(str(tmp_path / "empty"), str(tmp_path / "c.tar.xz"))
+
+
+def test_carry_rejects_a_file_that_is_not_a_carry_or_leaves_the_folder(tmp_path):
+    import io
+    import tarfile
+    bogus = tmp_path / "bogus.tar.xz"
+    bogus.write_text("not a tar")
+    with pytest.raises(rs.RestartError, match="bogus.tar.xz: not a carried run"):
+        rs.carry_step(str(bogus))
+    evil = str(tmp_path / "evil.tar.xz")
+    with tarfile.open(evil, "w:xz") as tar:
+        for name, data in (("restart/latest.txt", b"7 restart/jack_0.restart\n"),
+                           ("../outside.txt", b"x")):
+            info = tarfile.TarInfo(name)
+            info.size = len(data)
+            tar.addfile(info, io.BytesIO(data))
+    with pytest.raises(rs.RestartError, match=r"\.\./outside\.txt are not plain files"):
+        rs.unpack_carry(evil, str(tmp_path / "out"))
+    assert not (tmp_path / "outside.txt").exists()
+
+
+def test_study_carries_killed_pieces_and_unpacks_only_where_no_run_is(tmp_path):
+    import importlib.util
+    import pathlib
+    path = pathlib.Path(__file__).resolve().parents[2] / "bench" / "error_vs_runtime" / "run.py"
+    spec = importlib.util.spec_from_file_location("evr_run", path)
+    evr = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(evr)
+    root, carry = tmp_path / "work", tmp_path / "carry"
+    killed_run(root / "killed")
+    (root / "done" / "restart").mkdir(parents=True)       # finished: not carried
+    (root / "done" / "restart" / "latest.txt").write_text("9 restart/jack_0.restart\n")
+    (root / "done" / "summary.json").write_text("{}")
+    packed = evr.carry_out(str(root), ["killed", "done", "never_run"], str(carry))
+    assert [(n, s) for n, s, _ in packed] == [("killed", 200001)]
+    # a new machine: the folder is not there; it is laid out from the carry
+    fresh = tmp_path / "fresh"
+    assert evr.carry_in(str(fresh / "killed"), "killed", str(carry)) == 200001
+    assert evr.resumable(str(fresh / "killed"))
+    # a folder that can go on by itself is left alone (its run may be further on)
+    assert evr.carry_in(str(root / "killed"), "killed", str(carry)) is None
+    assert evr.carry_in(str(fresh / "other"), "other", str(carry)) is None
