@@ -249,6 +249,9 @@ def infer_parts(out):
 # (bench/error_vs_runtime/run.py --carry) into one compressed file that can
 # be committed; unpack_carry lays it out again where the next part runs.
 CARRY_SKIP = ("running.pid",)           # a claim of a live process, not state
+# LIGGGHTS writes restart_forced_<name>_<step>.data when a signal stops it:
+# a state after the last complete restart file, which resuming does not read
+FORCED_RESTART = re.compile(r"restart_forced_.*\.data")
 
 
 def carry_members(out):
@@ -266,7 +269,7 @@ def carry_members(out):
         dirs.sort()
         for name in sorted(files):
             path = os.path.join(base, name)
-            if name in CARRY_SKIP and base == out:
+            if base == out and (name in CARRY_SKIP or FORCED_RESTART.fullmatch(name)):
                 continue
             if (os.path.dirname(path) == restart_dir and name.endswith(".restart")
                     and os.path.abspath(path) != os.path.abspath(latest)):

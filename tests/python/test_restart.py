@@ -161,6 +161,7 @@ def killed_run(out):
     (out / "jack.txt").write_text(series([0, 100000, 200000], "a"))
     (out / "log.liggghts").write_text("Step Atoms\n")
     (out / "running.pid").write_text("12345\n")
+    (out / "restart_forced_liggghts_200043.data").write_bytes(b"signal")
     import os
     os.utime(out / "log.liggghts", (1.7e9, 1.7e9))
 
