@@ -29,9 +29,9 @@ the merged series are those of one run; its particle-steps count the lost
 work too). The run folders stay on the machine; --carry packs each killed
 piece's resumable state into carry/<piece>.tar.xz here, to be committed, so
 that a call on a new machine (a fresh clone) unpacks it and goes on from it;
-the carry is removed when the piece's record is added. Calls may run side by side (--np 1 each on a 2-core machine; the
-drivers' mpirun does not bind ranks to cores): each takes the
-next piece no live call has claimed (running.pid in its folder) and adds
+the carry is removed when the piece's record is added. Calls may run side
+by side (--np 1 each on a 2-core machine; the drivers' mpirun does not bind
+ranks to cores): each takes the next piece no live call has claimed (running.pid in its folder) and adds
 its record to results.json as the file is then.
 """
 
