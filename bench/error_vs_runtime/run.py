@@ -268,7 +268,7 @@ def carry_in(out, name, carry_dir=CARRY):
     """Lay a carried piece out in ``out`` when the folder has no run of its
     own to go on from; the restart step, or None if nothing was unpacked."""
     path = carry_path(name, carry_dir)
-    if not os.path.exists(path) or resumable(out) or os.path.exists(os.path.join(out, "summary.json")):
+    if not os.path.exists(path) or rs.holds_run(out):
         return None
     return rs.unpack_carry(path, out)
 

@@ -31,7 +31,7 @@ import numpy as np
 __all__ = ["LATEST", "PARTS", "SERIES", "latest_restart", "read_parts", "write_parts",
            "part_name", "keep_before", "merge_series_text", "merge_parts", "part_walls",
            "stale_snapshots", "clear_parts", "infer_parts", "part_files", "pack_carry",
-           "unpack_carry", "carry_step"]
+           "unpack_carry", "carry_step", "holds_run"]
 
 LATEST = os.path.join("restart", "latest.txt")
 PARTS = os.path.join("restart", "parts.json")
@@ -312,15 +312,21 @@ def carry_step(archive):
     return int(words[0])
 
 
+def holds_run(out):
+    """Whether ``out`` holds a run of its own (a restart file to go on from,
+    or a finished run's summary.json): no carry is laid out over it."""
+    return any(os.path.exists(os.path.join(out, own)) for own in (LATEST, "summary.json"))
+
+
 def unpack_carry(archive, out):
     """Lay the carried run in ``archive`` out in ``out`` to be resumed;
     returns its restart step. Refuses (RestartError) to overwrite a folder
     that holds a run of its own (restart/latest.txt or summary.json), and an
     archive with a member that is not a plain file or folder below ``out``."""
-    for own in (LATEST, "summary.json"):
-        if os.path.exists(os.path.join(out, own)):
-            raise RestartError("%s exists: %s holds a run of its own; not overwritten by %s"
-                               % (os.path.join(out, own), out, archive))
+    if holds_run(out):
+        own = LATEST if os.path.exists(os.path.join(out, LATEST)) else "summary.json"
+        raise RestartError("%s exists: %s holds a run of its own; not overwritten by %s"
+                           % (os.path.join(out, own), out, archive))
     step = carry_step(archive)
     with tarfile.open(archive, "r:*") as tar:
         members = tar.getmembers()
