@@ -385,6 +385,14 @@ def cost_core_h(run):
     return (run.get("particle_steps") or np.nan) / RATE_PER_CORE_S / 3600.0
 
 
+def levelled_off(run):
+    """False for a chamber run whose q_c fit did not level off (b h <= 3 at
+    the final depth): its fitted asymptote is not a steady q_c (docs/
+    error-vs-runtime.md, "The first, shallower reference"), so its q_c error
+    is flagged and kept off the Pareto front. True for everything else."""
+    return run["scene"] != "chamber" or run["metrics"].get("qc_levelled_off") is not False
+
+
 def metric_values(run, metrics):
     """A run's recorded metrics in the given order, NaN where not recorded."""
     return [np.nan if run["metrics"].get(m) is None else run["metrics"][m] for m in metrics]
@@ -419,10 +427,12 @@ def table(data):
                              for r in sel])
             err = study.relative_error(vals, base)
             cost_h = np.array([cost_core_h(r) for r in sel])
-            on_front = np.array([r["role"] != "reference_seed" for r in sel])
+            lev = np.array([levelled_off(r) for r in sel])
+            on_front = np.array([r["role"] != "reference_seed" for r in sel]) & lev
             front = study.pareto_front(cost_h, np.where(on_front, err[:, 0], np.nan))
             for k, r in enumerate(sel):
                 rows.append({"name": r["name"], "scene": scene, "grains": grains, "role": r["role"],
+                             "qc_levelled_off": bool(lev[k]),
                              "varied": r.get("varied"), "core_h": cost_h[k],
                              "core_h_measured": r["core_s"] / 3600.0,
                              "particle_steps": r.get("particle_steps"),
@@ -450,6 +460,8 @@ def qc_ratio(data):
                  for r in sel])
 
     keys, ratio = study.paired_ratio(*side("unbreakable"), *side("crushable_ne34"))
+    # a ratio of two asymptotes is steady only when both pushes levelled off
+    not_levelled = {r["name"].split("_", 2)[2] for r in runs if not levelled_off(r)}
     if "ref" not in keys:
         return []
     ref = ratio[keys.index("ref")]
@@ -458,7 +470,8 @@ def qc_ratio(data):
     err = study.relative_error(ratio, np.full(ratio.shape, ref))
     noise = study.is_noise(err, np.full(ratio.shape, scatter))
     return [{"setting": k, "ratio": float(ratio[i]), "error": float(err[i]),
-             "noise": bool(noise[i]), "reference_scatter": scatter} for i, k in enumerate(keys)]
+             "noise": bool(noise[i]), "reference_scatter": scatter,
+             "qc_levelled_off": k not in not_levelled} for i, k in enumerate(keys)]
 
 
 # chamber runs of the reference setting that repeat its trajectory with a
@@ -490,25 +503,30 @@ def spread(data, settings=SPREAD_SETTINGS):
         err = study.relative_error(vals, np.broadcast_to(mean, vals.shape))
         cost_h = np.array([cost_core_h(r) for r in sel])
         # the second seed repeats the reference's setting: not a setting of its own
-        on_front = np.array([r["role"] != "reference_seed" for r in sel])
+        lev = np.array([levelled_off(r) for r in sel])
+        on_front = np.array([r["role"] != "reference_seed" for r in sel]) & lev
         front = study.pareto_front(cost_h, np.where(on_front, err[:, 0], np.nan))
         for k, r in enumerate(sel):
             out["runs"].append({"name": r["name"], "grains": grains, "core_h": float(cost_h[k]),
+                                "qc_levelled_off": bool(lev[k]),
                                 "error": dict(zip(CHAMBER_METRICS, err[k].tolist())),
                                 "noise": dict(zip(CHAMBER_METRICS,
                                                   study.is_noise(err[k], 2 * rel).tolist())),
                                 "pareto": bool(front[k])})
-    ratio = {r["setting"]: r["ratio"] for r in qc_ratio(data)}
+    ratio_rows = qc_ratio(data)
+    ratio = {r["setting"]: r["ratio"] for r in ratio_rows}
     rr = [ratio[k] for k in settings if k in ratio]
     if len(rr) >= 2:
         m, s = study.replicate_spread(np.array(rr))
         out["qc_ratio"] = {"settings": [k for k in settings if k in ratio],
                            "mean": float(m), "rel_std": float(s),
-                           "error": {k: float(study.relative_error(v, m)) for k, v in ratio.items()}}
+                           "error": {k: float(study.relative_error(v, m)) for k, v in ratio.items()},
+                           "not_levelled_off": [r["setting"] for r in ratio_rows if not r["qc_levelled_off"]]}
     return out
 
 
 COLOUR = {"crushable_ne34": "C0", "unbreakable": "C1"}
+NOT_LEVELLED = ", not levelled off"
 
 
 def _plot_panel(ax, points, levels, ylabel, title):
@@ -550,8 +568,10 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
             cells = []
             for m in metrics:
                 v, e = r["values"][m], r["error"][m]
-                cells.append("%.4g (%s%s)" % (v, "%+.1f" % (100 * e) if np.isfinite(e) else "-",
-                                              ", noise" if r["noise"][m] else ""))
+                cells.append("%.4g (%s%s%s)" % (v, "%+.1f" % (100 * e) if np.isfinite(e) else "-",
+                                                ", noise" if r["noise"][m] else "",
+                                                NOT_LEVELLED if m == "qc_steady_MPa"
+                                                and not r.get("qc_levelled_off", True) else ""))
             lines.append("| %s | %.3g | %.3g | %.3g / %.3g | %s | %s |" % (
                 r["name"], r["core_h"], r["core_h_measured"], r["particle_steps"] or 0,
                 r["particle_steps_test"] or 0,
@@ -573,9 +593,9 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
                   "scatter, %.2g %%)" % (100 * ratio_rows[0]["reference_scatter"]), "",
                   "| setting | q_c ratio | error |", "|---|---|---|"]
         for r in ratio_rows:
-            lines.append("| %s | %.3f | %s%s |" % (
+            lines.append("| %s | %.3f | %s%s%s |" % (
                 r["setting"], r["ratio"], "%+.1f" % (100 * r["error"]) if np.isfinite(r["error"]) else "-",
-                ", noise" if r["noise"] else ""))
+                ", noise" if r["noise"] else "", "" if r.get("qc_levelled_off", True) else NOT_LEVELLED))
     if spread_rows and spread_rows["models"]:
         sp = spread_rows
         lines += ["", "chamber: run-to-run spread of the reference setting, pooled over %s "
@@ -595,13 +615,17 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
                   "|---" * (len(CHAMBER_METRICS) + 3) + "|"]
         qerr = sp.get("qc_ratio", {}).get("error", {})
         qsd = sp.get("qc_ratio", {}).get("rel_std", np.nan)
+        q_unsteady = sp.get("qc_ratio", {}).get("not_levelled_off", [])
         for r in sp["runs"]:
             key = r["name"].split("_", 2)[2]
             qe = qerr.get(key, np.nan) if r["grains"] == "crushable_ne34" else np.nan
             lines.append("| %s | %s | %s | %s |" % (r["name"], " | ".join(
-                ("%+.1f%s" % (100 * r["error"][k], ", noise" if r["noise"][k] else ""))
+                ("%+.1f%s%s" % (100 * r["error"][k], ", noise" if r["noise"][k] else "",
+                                NOT_LEVELLED if k == "qc_steady_MPa" and not r.get("qc_levelled_off", True)
+                                else ""))
                 if np.isfinite(r["error"][k]) else "-" for k in CHAMBER_METRICS),
-                ("%+.1f%s" % (100 * qe, ", noise" if abs(qe) <= 2 * qsd else "")) if np.isfinite(qe) else "",
+                ("%+.1f%s%s" % (100 * qe, ", noise" if abs(qe) <= 2 * qsd else "",
+                                NOT_LEVELLED if key in q_unsteady else "")) if np.isfinite(qe) else "",
                 "yes" if r["pareto"] else ""))
     with open(path_md, "w") as f:
         f.write("\n".join(lines).lstrip() + "\n")
