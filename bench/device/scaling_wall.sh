@@ -1,0 +1,59 @@
+#!/bin/bash
+# Wall-clock rates of the chamber slice of bench/icount (117,170 grains, the
+# paper chamber's radius) at 1 to 16 ranks, balanced by balance/grains and
+# not, on a machine with at least 16 free cores (docs/performance.md
+# "Wall-clock rates at 16 ranks"). The instruction counts of the same scene
+# bound the efficiency; this measures what the cores deliver.
+#
+# Usage, from the repository root of a checkout on that machine:
+#   bash bench/device/scaling_wall.sh BUNDLE.tar.xz OUT_DIR
+# BUNDLE.tar.xz from bench/device/make_bundle.sh (LIGGGHTS and Open MPI with
+# their libraries). Writes OUT_DIR/log.txt and OUT_DIR/results.tgz (one JSON
+# per run of bench/icount/run.py, the machine's description), refreshed
+# after every run so that a run cut short still returns what it measured.
+#
+# Order: the 16-rank comparison first (balanced `8 1 2` and the default
+# `* * 1`, alternated twice, since wall time on a shared machine drifts),
+# then 1 rank (the reference of the efficiency), then 2, 4 and 8 ranks
+# balanced. Every run has the same 115,200-grain target (7,200 per rank at
+# 16 ranks), so every run is the same scene.
+set -uo pipefail
+bundle_tar=$(realpath "${1:?usage: scaling_wall.sh BUNDLE.tar.xz OUT_DIR}")
+out=$(realpath -m "${2:?usage: scaling_wall.sh BUNDLE.tar.xz OUT_DIR}")
+work=${TMPDIR:-/tmp}/crush_scaling_wall
+rm -rf "$work"
+mkdir -p "$work/json" "$out"
+exec > >(tee "$out/log.txt") 2>&1
+tar xf "$bundle_tar" -C "$work"
+export CRUSH_BUNDLE="$work/bundle" PATH="$work/bundle/bin:$PATH"
+export LIGGGHTS_BIN="$work/bundle/bin/liggghts" PYTHONUNBUFFERED=1
+py=${PYTHON:-python3}
+total=${GRAINS_TOTAL:-115200}   # smaller only for a smoke test
+{ date -u; nproc; lscpu 2>/dev/null | head -25; free -g 2>/dev/null; } > "$work/json/machine.txt"
+
+one() {  # one() NAME RANKS STEPS [run.py options...]
+  local name=$1 ranks=$2 steps=$3
+  shift 3
+  echo "== $name: $ranks ranks, $steps steps, $* ($(date -u +%T))"
+  "$py" bench/icount/run.py scaling --wall --ranks "$ranks" --steps "$steps" \
+    --grains-per-rank $((total / ranks)) --out "$work/runs" \
+    --results "$work/json/$name.json" "$@" || echo "!! $name failed"
+  rm -rf "$work/runs"
+  tar czf "$out/results.tgz" -C "$work" json
+}
+
+bal=(--balance "balance/grains")
+grids=(--proc-grid "8=8 1 1" "16=8 1 2")
+# 100 timed steps: the lattice stays static (no neighbour-list build, no
+# break) for about 120 steps; over 2,000 it relaxes, rebuilds every 4-6
+# steps and breaks grains, which is not the jacking phase's work. Each
+# invocation repeats every rank count on one scene; balanced and default
+# grids alternate.
+# PASSES and RANKS (environment) change the number of passes and the rank
+# counts of each invocation (e.g. PASSES=3 RANKS="16 16 16 1" for repeats).
+read -r -a ranks <<< "${RANKS:-16 1 8 4 2}"
+for pass in $(seq "${PASSES:-2}"); do
+  one "balanced_$pass" 16 100 --ranks "${ranks[@]}" "${grids[@]}" "${bal[@]}"
+  one "default_grid_$pass" 16 100 --ranks "${ranks[@]}"
+done
+echo "== done ($(date -u +%T))"
