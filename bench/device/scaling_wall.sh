@@ -51,9 +51,11 @@ grids=(--proc-grid "8=8 1 1" "16=8 1 2")
 # grids alternate.
 # PASSES and RANKS (environment) change the number of passes and the rank
 # counts of each invocation (e.g. PASSES=3 RANKS="16 16 16 1" for repeats).
+# EXTRA adds run.py options to every run (e.g. EXTRA="--rebuild-every 20").
 read -r -a ranks <<< "${RANKS:-16 1 8 4 2}"
+read -r -a extra <<< "${EXTRA:-}"
 for pass in $(seq "${PASSES:-2}"); do
-  one "balanced_$pass" 16 100 --ranks "${ranks[@]}" "${grids[@]}" "${bal[@]}"
-  one "default_grid_$pass" 16 100 --ranks "${ranks[@]}"
+  one "balanced_$pass" 16 100 --ranks "${ranks[@]}" "${grids[@]}" "${bal[@]}" "${extra[@]}"
+  one "default_grid_$pass" 16 100 --ranks "${ranks[@]}" "${extra[@]}"
 done
 echo "== done ($(date -u +%T))"

@@ -7,9 +7,10 @@ rates at 16 ranks").
     /usr/bin/python3 bench/device/summarise_scaling_wall.py DIR [DIR ...] \
         --results bench/icount/results_scaling_wall_16core.json
 
-Each DIR holds the `json/` folder of one call. Runs with a neighbour-list
-build or a break in the timed steps are left out of the medians (their work
-is not the static packing's) and counted.
+Each DIR holds the `json/` folder of one call. Runs with a break or a
+neighbour-list build in the timed steps other than those forced by
+`--rebuild-every` are left out of the medians (their work is not the static
+packing's) and counted.
 """
 import argparse
 import glob
@@ -17,6 +18,13 @@ import json
 import os
 import statistics
 import sys
+
+
+def intended_builds(r):
+    """True when the timed run rebuilt its neighbour lists only where asked
+    to (`run.py --rebuild-every K`: steps / K builds; else none)."""
+    every = r["vars"].get("rebuild_every", 0)
+    return r["neighbor_builds_timed_run"] == (r["steps"] // every if every else 0)
 
 
 def load_runs(dirs):
@@ -34,7 +42,9 @@ def load_runs(dirs):
                 runs.append({"call": call, "file": name, "order": i, "np": r["np"],
                              "proc_grid": r["proc_grid"], "balanced": balanced and r["np"] > 1,
                              "atoms": r["atoms"], "steps": r["steps"], "loop_s": r["loop_s"],
-                             "static": r["neighbor_builds_timed_run"] == 0 and not r["n_break"],
+                             "rebuild_every": r["vars"].get("rebuild_every", 0),
+                             "neighbor_builds": r["neighbor_builds_timed_run"], "n_break": r["n_break"],
+                             "static": intended_builds(r) and not r["n_break"],
                              "particle_steps_per_core_s": r["particle_steps_per_core_s"]})
     return runs
 

@@ -18,9 +18,10 @@ def summ():
     return mod
 
 
-def run(np_, grid, rate, builds=0, breaks=0.0):
+def run(np_, grid, rate, builds=0, breaks=0.0, rebuild_every=0):
+    var = {"rebuild_every": rebuild_every} if rebuild_every else {}
     return {"np": np_, "proc_grid": grid, "atoms": 1000, "steps": 100, "loop_s": 1.0,
-            "neighbor_builds_timed_run": builds, "n_break": breaks,
+            "neighbor_builds_timed_run": builds, "n_break": breaks, "vars": var,
             "particle_steps_per_core_s": rate}
 
 
@@ -51,6 +52,17 @@ def test_medians_efficiency_and_dynamic_runs_left_out(summ, tmp_path):
     assert bal["efficiency_vs_1_rank"] == pytest.approx(0.55)
     dflt = rows[(16, "* * 1", False)]
     assert dflt["n_runs"] == 1 and dflt["rate_median"] == pytest.approx(0.8e6)
+
+
+def test_forced_rebuilds_count_others_do_not(summ, tmp_path):
+    write_call(tmp_path / "c", {"default_grid_1": [
+        run(16, "* * 1", 1.0e6, builds=5, rebuild_every=20),     # as asked: counted
+        run(16, "* * 1", 2.0e6, builds=6, rebuild_every=20),     # one more: left out
+        run(1, "1 1 1", 2.0e6, builds=5, rebuild_every=20)]})
+    out = summ.summarise(summ.load_runs([str(tmp_path / "c")]))
+    assert out["runs_not_static"] == 1
+    rows = {r["np"]: r for r in out["rows"]}
+    assert rows[16]["n_runs"] == 1 and rows[16]["efficiency_vs_1_rank"] == pytest.approx(0.5)
 
 
 def test_folder_without_results_named(summ, tmp_path):
