@@ -6,29 +6,23 @@ outside the chamber, mass balance above 1e-12, atoms missing against the
 breaks, events inside the pile)."""
 
 import argparse
-import importlib.util
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from crushpost.trend import qc_trend
 
-REPO = Path(__file__).resolve().parent.parent.parent
 R = 0.018
 Z_REF = 0.1            # sand surface at the start of jacking
 TIP_Z0 = 0.095         # initial apex (the top wall's first height): NOT the depth reference
 A, B = 4e6, 80.0
 
 
-def _driver():
-    spec = importlib.util.spec_from_file_location("cpt_demo_run",
-                                                  REPO / "examples" / "cpt_demo" / "run.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+@pytest.fixture(scope="module")
+def run(load_script):
+    return load_script("examples/cpt_demo/run.py", "cpt_demo_run")
 
 
 def _args():
@@ -88,8 +82,7 @@ def _tip(step):
     return Z_REF - 0.01 * step / 5000.0
 
 
-def test_events_are_placed_relative_to_the_real_tip(tmp_path):
-    run = _driver()
+def test_events_are_placed_relative_to_the_real_tip(tmp_path, run):
     # beside the cone face at (h, r) = (R, 0.6 R) (just outside it: the cone's
     # radius there is R tan 30 = 0.577 R), and 0.3 R below the apex; measured
     # from TIP_Z0 - depth the first would lie inside the cone
@@ -116,8 +109,7 @@ def test_events_are_placed_relative_to_the_real_tip(tmp_path):
     ({"atoms_missing": 1}, "n_particles_final"),
     ({"inside": True}, "n_events_inside_pile = 1"),
 ])
-def test_failed_checks(tmp_path, case, words):
-    run = _driver()
+def test_failed_checks(tmp_path, case, words, run):
     events = [(2500, 1.5 * R, 0.0, _tip(2500) + R)]
     if case.pop("inside", False):
         events.append((2500, 0.2 * R, 0.0, _tip(2500) + R))      # on the cone's axis side
@@ -126,8 +118,7 @@ def test_failed_checks(tmp_path, case, words):
     assert len(s["failed_checks"]) == 1 and words in s["failed_checks"][0], s["failed_checks"]
 
 
-def test_missing_outside_count_fails(tmp_path):
-    run = _driver()
+def test_missing_outside_count_fails(tmp_path, run):
     n0 = _write_run(tmp_path)
     log = (tmp_path / "log.liggghts").read_text().replace("CHAMBER outside", "CHAMBER gone")
     (tmp_path / "log.liggghts").write_text(log)

@@ -1,20 +1,14 @@
 """bench/error_vs_runtime/run.py's tables: a chamber run whose q_c fit did
 not level off is flagged and kept off the Pareto front (issue 11)."""
 
-import importlib.util
-import pathlib
 
 import numpy as np
 import pytest
 
 
 @pytest.fixture(scope="module")
-def evr():
-    path = pathlib.Path(__file__).resolve().parents[2] / "bench" / "error_vs_runtime" / "run.py"
-    spec = importlib.util.spec_from_file_location("evr_run_table", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def evr(load_script):
+    return load_script("bench/error_vs_runtime/run.py", "evr_run_table")
 
 
 def chamber_run(name, grains, role, seed, qc, p_steps, levelled=True):

@@ -217,13 +217,8 @@ def test_carry_rejects_a_file_that_is_not_a_carry_or_leaves_the_folder(tmp_path)
     assert not (tmp_path / "outside.txt").exists()
 
 
-def test_study_carries_killed_pieces_and_unpacks_only_where_no_run_is(tmp_path):
-    import importlib.util
-    import pathlib
-    path = pathlib.Path(__file__).resolve().parents[2] / "bench" / "error_vs_runtime" / "run.py"
-    spec = importlib.util.spec_from_file_location("evr_run", path)
-    evr = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(evr)
+def test_study_carries_killed_pieces_and_unpacks_only_where_no_run_is(tmp_path, load_script):
+    evr = load_script("bench/error_vs_runtime/run.py", "evr_run")
     root, carry = tmp_path / "work", tmp_path / "carry"
     killed_run(root / "killed")
     (root / "done" / "restart").mkdir(parents=True)       # finished: not carried

@@ -2,20 +2,14 @@
 efficiency against the 1-rank median, and runs that were not static (a
 neighbour-list build or a break in the timed steps) left out."""
 
-import importlib.util
 import json
-import pathlib
 
 import pytest
 
 
 @pytest.fixture(scope="module")
-def summ():
-    path = pathlib.Path(__file__).resolve().parents[2] / "bench" / "device" / "summarise_scaling_wall.py"
-    spec = importlib.util.spec_from_file_location("summarise_scaling_wall", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+def summ(load_script):
+    return load_script("bench/device/summarise_scaling_wall.py")
 
 
 def run(np_, grid, rate, builds=0, breaks=0.0, rebuild_every=0):

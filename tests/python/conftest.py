@@ -1,0 +1,23 @@
+"""Shared fixtures of the Python tests."""
+
+import importlib.util
+import pathlib
+
+import pytest
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+
+
+def _load_script(relpath, name=None):
+    """Import a script of the repository that is not in a package (a bench
+    or example driver) as a module, by its path from the repository root."""
+    path = REPO / relpath
+    spec = importlib.util.spec_from_file_location(name or path.stem + "_under_test", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.fixture(scope="session")
+def load_script():
+    return _load_script
