@@ -37,10 +37,11 @@ def load_runs(dirs):
             with open(f) as fh:
                 res = json.load(fh)
             name = os.path.basename(f)[:-5]
-            balanced = name.startswith("balanced")
             for i, r in enumerate(res["runs"]):
+                # at 1 rank balance/grains does nothing: one 1-rank group
+                balanced = bool(r["vars"].get("balance_cmd")) and r["np"] > 1
                 runs.append({"call": call, "file": name, "order": i, "np": r["np"],
-                             "proc_grid": r["proc_grid"], "balanced": balanced and r["np"] > 1,
+                             "proc_grid": r["proc_grid"], "balanced": balanced,
                              "atoms": r["atoms"], "steps": r["steps"], "loop_s": r["loop_s"],
                              "rebuild_every": r["vars"].get("rebuild_every", 0),
                              "neighbor_builds": r["neighbor_builds_timed_run"], "n_break": r["n_break"],

@@ -12,8 +12,10 @@ def summ(load_script):
     return load_script("bench/device/summarise_scaling_wall.py")
 
 
-def run(np_, grid, rate, builds=0, breaks=0.0, rebuild_every=0):
+def run(np_, grid, rate, builds=0, breaks=0.0, rebuild_every=0, balance=None):
     var = {"rebuild_every": rebuild_every} if rebuild_every else {}
+    if balance or (balance is None and grid == "8 1 2"):
+        var["balance_cmd"] = "balance/grains"
     return {"np": np_, "proc_grid": grid, "atoms": 1000, "steps": 100, "loop_s": 1.0,
             "neighbor_builds_timed_run": builds, "n_break": breaks, "vars": var,
             "particle_steps_per_core_s": rate}
@@ -27,7 +29,7 @@ def write_call(folder, files):
 
 def test_medians_efficiency_and_dynamic_runs_left_out(summ, tmp_path):
     write_call(tmp_path / "c1", {
-        "balanced_1": [run(16, "8 1 2", 1.0e6), run(1, "1 1 1", 2.0e6)],
+        "balanced_1": [run(16, "8 1 2", 1.0e6), run(1, "1 1 1", 2.0e6, balance=True)],
         "default_grid_1": [run(16, "* * 1", 0.8e6), run(1, "1 1 1", 1.0e6)]})
     write_call(tmp_path / "c2", {
         "balanced_1": [run(16, "8 1 2", 1.2e6), run(16, "8 1 2", 1.1e6),
