@@ -51,7 +51,7 @@ for W in (6, 8, 10, 12, 16):
         CASES["per_W%d_s%d" % (W, s)] = _triax(W, s, cell="periodic")
 
 
-from crushpost.runner import default_binary  # noqa: E402
+from crushpost.runner import default_binary, remove_tree  # noqa: E402
 
 
 def snapshot_tree(work):
@@ -275,15 +275,18 @@ def main(argv=None):
             print("%s: refreshed" % name)
         return 0
     tree = None
-    for name in a.cases:
-        if os.path.exists(os.path.join(RESULTS, name + ".json")) and not a.force:
-            print("%s: done already" % name)
-            continue
-        if tree is None:
-            tree = snapshot_tree(a.work)
-        # the binary of this checkout (the copied tree has no build/)
-        r = run_case(name, a.np, a.work, a.liggghts or default_binary(), tree)
-        print("%s: exit %d, %.0f s" % (name, r["exit_code"], r["wall_time_s"]), flush=True)
+    try:
+        for name in a.cases:
+            if os.path.exists(os.path.join(RESULTS, name + ".json")) and not a.force:
+                print("%s: done already" % name)
+                continue
+            if tree is None:
+                tree = snapshot_tree(a.work)
+            # the binary of this checkout (the copied tree has no build/)
+            r = run_case(name, a.np, a.work, a.liggghts or default_binary(), tree)
+            print("%s: exit %d, %.0f s" % (name, r["exit_code"], r["wall_time_s"]), flush=True)
+    finally:
+        remove_tree(tree)          # the copy served this call only
     return 0
 
 

@@ -53,7 +53,7 @@ import numpy as np  # noqa: E402
 
 from crushpost import restart as rs  # noqa: E402
 from crushpost import study  # noqa: E402
-from crushpost.runner import default_binary, log_errors, snapshot_tree  # noqa: E402
+from crushpost.runner import default_binary, log_errors, remove_tree, snapshot_tree  # noqa: E402
 from crushpost.thermo import parse_log  # noqa: E402
 
 # NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
@@ -734,38 +734,41 @@ def main(argv=None):
     t_start = time.time()
     root = a.work + ("_smoke" if a.smoke else "")
     tree = None
-    for p in todo:
-        data = load(path)           # another call may have run it meanwhile
-        if p["name"] in data["runs"] and not a.redo and "error" not in data["runs"][p["name"]]:
-            continue
-        if a.budget_h is not None and time.time() - t_start > a.budget_h * 3600:
-            print("budget of %.2f h spent; stopping before %s" % (a.budget_h, p["name"]))
-            break
-        if not claim(os.path.join(root, p["name"])):
-            print("%s: another call is running it; next" % p["name"], flush=True)
-            continue
-        step = carry_in(os.path.join(root, p["name"]), p["name"])
-        if step is not None:
-            print("%s: unpacked %s (restart step %d)" % (p["name"], carry_path(p["name"]), step),
+    try:
+        for p in todo:
+            data = load(path)           # another call may have run it meanwhile
+            if p["name"] in data["runs"] and not a.redo and "error" not in data["runs"][p["name"]]:
+                continue
+            if a.budget_h is not None and time.time() - t_start > a.budget_h * 3600:
+                print("budget of %.2f h spent; stopping before %s" % (a.budget_h, p["name"]))
+                break
+            if not claim(os.path.join(root, p["name"])):
+                print("%s: another call is running it; next" % p["name"], flush=True)
+                continue
+            step = carry_in(os.path.join(root, p["name"]), p["name"])
+            if step is not None:
+                print("%s: unpacked %s (restart step %d)" % (p["name"], carry_path(p["name"]), step),
+                      flush=True)
+            print("running %s ..." % p["name"], flush=True)
+            if tree is None:
+                tree = snapshot_tree(root, TREE_PARTS)
+            try:
+                rec = run_piece(p, root, a.np, a.liggghts or default_binary(), tree)
+            finally:
+                os.remove(os.path.join(root, p["name"], CLAIM))
+            # read the file again: another call may have added its pieces meanwhile
+            data = load(path)
+            data["runs"][p["name"]] = rec
+            save(path, data)
+            print("  %s: %.0f s, %s" % (p["name"], rec["wall_s"], rec.get("error") or rec.get("metrics")),
                   flush=True)
-        print("running %s ..." % p["name"], flush=True)
-        if tree is None:
-            tree = snapshot_tree(root, TREE_PARTS)
-        try:
-            rec = run_piece(p, root, a.np, a.liggghts or default_binary(), tree)
-        finally:
-            os.remove(os.path.join(root, p["name"], CLAIM))
-        # read the file again: another call may have added its pieces meanwhile
-        data = load(path)
-        data["runs"][p["name"]] = rec
-        save(path, data)
-        print("  %s: %.0f s, %s" % (p["name"], rec["wall_s"], rec.get("error") or rec.get("metrics")),
-              flush=True)
-        if "error" not in rec and os.path.exists(carry_path(p["name"])) and not a.smoke:
-            # the record holds the result now: the carried state is spent
-            os.remove(carry_path(p["name"]))
-            print("  removed %s (commit its removal with results.json)" % carry_path(p["name"]),
-                  flush=True)
+            if "error" not in rec and os.path.exists(carry_path(p["name"])) and not a.smoke:
+                # the record holds the result now: the carried state is spent
+                os.remove(carry_path(p["name"]))
+                print("  removed %s (commit its removal with results.json)" % carry_path(p["name"]),
+                      flush=True)
+    finally:
+        remove_tree(tree)          # the copy served this call only
     return 0
 
 

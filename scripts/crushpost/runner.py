@@ -12,7 +12,7 @@ import sys
 import time
 
 __all__ = ["default_binary", "mpirun_command", "run_liggghts", "log_errors", "stop_on_failure",
-           "snapshot_tree"]
+           "snapshot_tree", "prune_trees", "remove_tree"]
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -79,19 +79,71 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", l
     return wall
 
 
+OWNER = "owner.pid"
+
+
+def _alive(pid):
+    try:
+        os.kill(pid, 0)             # raises if no such process
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True                  # someone else's live process
+    return True
+
+
+def prune_trees(work):
+    """Remove the copies (``_tree_*``) in WORK whose owner process is gone:
+    a study killed at a restart point never reaches its own clean-up.
+    Copies without an owner file are left alone (they may belong to a
+    running call of an older version). Returns the removed paths."""
+    import shutil
+
+    removed = []
+    if not os.path.isdir(work):
+        return removed
+    for name in sorted(os.listdir(work)):
+        path = os.path.join(work, name)
+        if not (name.startswith("_tree_") and os.path.isdir(path)):
+            continue
+        try:
+            with open(os.path.join(path, OWNER)) as f:
+                pid = int(f.read().split()[0])
+        except (OSError, ValueError, IndexError):
+            continue
+        if pid != os.getpid() and not _alive(pid):
+            shutil.rmtree(path, ignore_errors=True)
+            removed.append(path)
+    return removed
+
+
 def snapshot_tree(work, subdirs):
     """Copy ``subdirs`` of this checkout (drivers, deck blocks, crushpost)
     into a new folder WORK/_tree_<time>_<random> and return it. LIGGGHTS
     reads an input file as it reaches it, so a study that runs for hours
     runs its drivers from such a copy: an edit of the checkout meanwhile
-    must not reach a run under way."""
+    must not reach a run under way. The copy names its owner (this
+    process) in ``owner.pid``; copies of owners that are gone are removed
+    first (prune_trees), and the caller removes its own when it ends
+    (remove_tree)."""
     import shutil
     import tempfile
 
     # a fresh folder: two studies started in the same second must not share one
     os.makedirs(work, exist_ok=True)
+    prune_trees(work)
     dst = tempfile.mkdtemp(prefix="_tree_%d_" % int(time.time()), dir=work)
+    with open(os.path.join(dst, OWNER), "w") as f:
+        f.write("%d\n" % os.getpid())
     for sub in subdirs:
         shutil.copytree(os.path.join(REPO, sub), os.path.join(dst, sub),
                         ignore=shutil.ignore_patterns("__pycache__", "results*"))
     return dst
+
+
+def remove_tree(tree):
+    """Remove a copy made by snapshot_tree (None: nothing to do)."""
+    import shutil
+
+    if tree and os.path.basename(tree).startswith("_tree_"):
+        shutil.rmtree(tree, ignore_errors=True)
