@@ -339,9 +339,9 @@ def run_piece(p, root, np_, liggghts=None, tree=REPO):
         summ = json.load(f)
     if summ.get("parts"):
         # a run in parts: the wall time of all of them (the killed ones until
-        # their logs last changed), core-seconds at this call's rank count
+        # their logs last changed), core-seconds at each part's rank count
         rec["wall_s"] = summ["wall_time_s"]
-        rec["core_s"] = summ["wall_time_s"] * np_
+        rec["core_s"] = summ.get("core_s", summ["wall_time_s"] * np_)
         rec["parts"] = summ["parts"]
     rec["n_particles_initial"] = summ.get("n_particles_initial")
     if p["scene"] == "chamber":

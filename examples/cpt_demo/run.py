@@ -239,7 +239,7 @@ def prep_summary(a, out):
     return prep
 
 
-def postprocess(a, out, wall, n0, tip_z0, parts=None):
+def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -337,7 +337,9 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None):
         "qc_fit_points": int(virgin.sum()), "qc_fit_excluded_repush_points": int((push & ~virgin).sum()),
         "sand_surface_z_m": z_ref,
         "final_depth_m": float(jack["depth"].max()), "cycles": int(jack["cycle"].max()) if "cycle" in jack else 0,
-        "wall_time_s": wall, "mpi_ranks": a.np, "mode": a.mode, "grains": a.grains, "N": a.N,
+        "wall_time_s": wall, "mpi_ranks": a.np,
+        # a run in parts may change its rank count between them
+        "core_s": wall * a.np if core_s is None else core_s, "mode": a.mode, "grains": a.grains, "N": a.N,
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
         "plots": plots,
     }
@@ -420,8 +422,11 @@ def resume(a):
     rs.merge_parts(out)
     # the first run (part 0) was killed: its wall time ends when its log last changed
     first_run = {"part": 0, "started": scene["started"], "wall_s": None}
-    wall = sum(rs.part_walls(out, [first_run] + parts))
-    return finish(a, wall, scene["n_particles_initial"], scene["tip_z0"], parts)
+    walls = rs.part_walls(out, [first_run] + parts)
+    # core-seconds at each part's own rank count (the first run's from args.json)
+    ranks = [first.get("np", a.np)] + [p.get("mpi_ranks") or a.np for p in parts]
+    core_s = float(sum(w * n for w, n in zip(walls, ranks)))
+    return finish(a, sum(walls), scene["n_particles_initial"], scene["tip_z0"], parts, core_s)
 
 
 def main(argv=None):
@@ -522,9 +527,9 @@ def main(argv=None):
     return finish(a, wall, n0, tip_z0)
 
 
-def finish(a, wall, n0, tip_z0, parts=None):
+def finish(a, wall, n0, tip_z0, parts=None, core_s=None):
     """Post-process a run that got to its end; the exit status."""
-    summary = postprocess(a, a.out, wall, n0, tip_z0, parts)
+    summary = postprocess(a, a.out, wall, n0, tip_z0, parts, core_s)
     if a.json:
         print(json.dumps(summary, indent=2))
     print("cpt_demo: q_c trend a = %.3g +- %.2g MPa (%s), %d breaks, mass balance %.2g, "

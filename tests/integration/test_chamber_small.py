@@ -284,6 +284,9 @@ def test_resumed_run_passes_the_demo_checks(resumed):
     assert s["failed_checks"] == [], s["failed_checks"]
     assert [(p["part"], p["restart_step"], p["mpi_ranks"]) for p in s["parts"]] == \
         [(1, resumed["step"], 1)]
+    # core-seconds at each part's rank count: the first run's 2 ranks, the
+    # resumed part's 1, so between the wall time and twice it
+    assert s["wall_time_s"] < s["core_s"] < 2 * s["wall_time_s"], (s["core_s"], s["wall_time_s"])
     # the part's log starts at the restart step; the run's log holds both parts
     part = read_log(resumed["out"] / "log.part1.liggghts")
     assert part[0]["Step"][0] == resumed["step"]
