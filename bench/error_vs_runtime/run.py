@@ -53,7 +53,8 @@ import numpy as np  # noqa: E402
 
 from crushpost import restart as rs  # noqa: E402
 from crushpost import study  # noqa: E402
-from crushpost.runner import default_binary, log_errors, remove_tree, snapshot_tree  # noqa: E402
+from crushpost.runner import (default_binary, log_errors, process_alive, remove_tree,  # noqa: E402
+                              snapshot_tree)
 from crushpost.thermo import parse_log  # noqa: E402
 
 # NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
@@ -281,11 +282,10 @@ def claim(out):
     try:
         with open(path) as f:
             pid = int(f.read().split()[0])
-        os.kill(pid, 0)             # raises if no such process
-        if pid != os.getpid():
-            return False
     except (OSError, ValueError, IndexError):
-        pass                         # no claim, or a dead process's
+        pid = None                   # no claim
+    if pid is not None and pid != os.getpid() and process_alive(pid):
+        return False                 # (a dead process's claim is taken over)
     with open(path, "w") as f:
         f.write("%d\n" % os.getpid())
     return True

@@ -12,7 +12,7 @@ import sys
 import time
 
 __all__ = ["default_binary", "mpirun_command", "run_liggghts", "log_errors", "stop_on_failure",
-           "snapshot_tree", "prune_trees", "remove_tree"]
+           "snapshot_tree", "prune_trees", "remove_tree", "process_alive"]
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -82,7 +82,9 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", l
 OWNER = "owner.pid"
 
 
-def _alive(pid):
+def process_alive(pid):
+    """Whether a process with this pid is running (a claim's or a copy's
+    owner)."""
     try:
         os.kill(pid, 0)             # raises if no such process
     except ProcessLookupError:
@@ -111,7 +113,7 @@ def prune_trees(work):
                 pid = int(f.read().split()[0])
         except (OSError, ValueError, IndexError):
             continue
-        if pid != os.getpid() and not _alive(pid):
+        if pid != os.getpid() and not process_alive(pid):
             shutil.rmtree(path, ignore_errors=True)
             removed.append(path)
     return removed

@@ -1,5 +1,6 @@
-"""bench/error_vs_runtime/run.py's tables: a chamber run whose q_c fit did
-not level off is flagged and kept off the Pareto front (issue 11)."""
+"""bench/error_vs_runtime/run.py: its tables (a chamber run whose q_c fit
+did not level off is flagged and kept off the Pareto front, issue 11) and
+its claims on pieces."""
 
 
 import numpy as np
@@ -69,3 +70,25 @@ def test_a_push_that_did_not_level_off_is_flagged_and_off_the_front(evr, tmp_pat
             assert any(ln.startswith("| chamber_crush_X=cheap |") and "| 15.15 (+1.0, not levelled off) |" in ln
                        for ln in lines)
             assert np.isfinite(cheap["core_h"])
+
+
+def test_a_piece_is_claimed_by_one_live_call(evr, tmp_path):
+    """Two calls side by side take different pieces; a killed call's claim
+    (running.pid of a process that is gone) is taken over."""
+    import os
+    import subprocess
+    import sys
+
+    out = str(tmp_path / "piece")
+    assert evr.claim(out)                        # no claim yet
+    assert evr.claim(out)                        # this process's own
+    with open(os.path.join(out, evr.CLAIM), "w") as f:
+        f.write("%d\n" % os.getppid())           # another live call's
+    assert not evr.claim(out)
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    with open(os.path.join(out, evr.CLAIM), "w") as f:
+        f.write("%d\n" % child.pid)              # a killed call's
+    assert evr.claim(out)
+    with open(os.path.join(out, evr.CLAIM)) as f:
+        assert int(f.read()) == os.getpid()
