@@ -21,3 +21,14 @@ def _load_script(relpath, name=None):
 @pytest.fixture(scope="session")
 def load_script():
     return _load_script
+
+
+@pytest.fixture
+def dead_pid():
+    """The pid of a process that has exited (a killed call's claim or copy)."""
+    import subprocess
+    import sys
+
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    child.wait()
+    return child.pid

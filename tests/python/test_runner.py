@@ -44,10 +44,8 @@ def test_log_name_and_snapshot_tree(tmp_path, monkeypatch):
     assert snapshot_tree(str(tmp_path), ("inputs",)) != first
 
 
-def test_copies_of_gone_owners_are_pruned_and_a_call_removes_its_own(tmp_path):
+def test_copies_of_gone_owners_are_pruned_and_a_call_removes_its_own(tmp_path, dead_pid):
     import os
-    import subprocess
-    import sys
 
     from crushpost.runner import prune_trees, remove_tree, snapshot_tree
 
@@ -60,23 +58,21 @@ def test_copies_of_gone_owners_are_pruned_and_a_call_removes_its_own(tmp_path):
         f.write("%d\n" % os.getppid())
     # a copy whose owner has exited (a study killed at a restart point)
     gone = snapshot_tree(str(tmp_path), ("inputs",))
-    child = subprocess.Popen([sys.executable, "-c", "pass"])
-    child.wait()
     with open(os.path.join(gone, "owner.pid"), "w") as f:
-        f.write("%d\n" % child.pid)
+        f.write("%d\n" % dead_pid)
     # a copy without an owner file (an older version's, maybe running): kept
     legacy = os.path.join(str(tmp_path), "_tree_1_legacy")
     os.makedirs(legacy)
     other = os.path.join(str(tmp_path), "chamber_run")   # not a copy: kept
     os.makedirs(other)
     with open(os.path.join(other, "owner.pid"), "w") as f:
-        f.write("%d\n" % child.pid)
+        f.write("%d\n" % dead_pid)
     assert prune_trees(str(tmp_path)) == [gone]
     assert sorted(os.listdir(str(tmp_path))) == sorted(
         os.path.basename(d) for d in (mine, alive, legacy, other))
     # the next copy prunes before it copies
     with open(os.path.join(legacy, "owner.pid"), "w") as f:
-        f.write("%d\n" % child.pid)
+        f.write("%d\n" % dead_pid)
     third = snapshot_tree(str(tmp_path), ("inputs",))
     assert not os.path.exists(legacy) and os.path.isdir(third) and os.path.isdir(mine)
     remove_tree(mine)
