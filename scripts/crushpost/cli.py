@@ -15,7 +15,7 @@ from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
 from .pile import read_jack
-from .trend import fit_qc_trend, virgin_mask
+from .trend import fit_qc_trend, qc_band_means, virgin_mask
 
 # Calibrated NE34 limits at real size (SPEC 3) [m]; scaled by N.
 D_MIN_REAL = 0.01e-3
@@ -143,6 +143,15 @@ def _cmd_fit_qc(args):
     except (ValueError, RuntimeError) as exc:  # too few points, no convergence
         raise InputFileError("%s: cannot fit q_c(h) to the points of the file (%d: %s)"
                              % (args.file, h.size, exc)) from None
+    if not args.band_width > 0:
+        raise ValueError("--band-width must be > 0 (the band height, in the units of h), got %g"
+                         % args.band_width)
+    bottom, mean, count = qc_band_means(h, q, args.band_width)
+    extra.update(band_width=args.band_width, band_bottom=bottom.tolist(),
+                 band_mean=[None if not np.isfinite(m) else float(m) for m in mean],
+                 band_count=count.tolist())
+    if bottom.size >= 3 and count[-3:].sum() > 0:
+        extra["mean_last3_bands"] = float(np.nansum(mean[-3:] * count[-3:]) / count[-3:].sum())
     print(json.dumps(dict(fit._asdict(), **extra)))
     return 0
 
@@ -254,13 +263,17 @@ def build_parser():
     br.set_defaults(func=_cmd_br)
 
     fq = sub.add_parser("fit-qc", help="fit q_c(h) = a (1 - exp(-b h)); prints JSON "
-                        "(a, b, their errors, the points used)")
+                        "(a, b, their errors, the points used, the mean q_c of each depth band)")
     fq.add_argument("file", help="text file with columns h and q_c ('#' comments; every "
                     "point is fitted), or the time series of fix jack/pile (jack.txt: only "
                     "virgin penetration is fitted, i.e. pushing with the tip at its deepest "
                     "so far; re-pushes after an unload enter once past the deepest point)")
     fq.add_argument("--pile-radius", type=float,
                     help="pile radius R [m], for a jack/pile series: q_c = F_cone / (pi R^2)")
+    fq.add_argument("--band-width", type=float, default=0.025,
+                    help="height of the depth bands whose mean q_c is printed too (band_bottom, "
+                    "band_mean, band_count, mean_last3_bands), in the units of h "
+                    "(default 0.025: 25 mm for a jack/pile series)")
     fq.set_defaults(func=_cmd_fit_qc)
 
     th = sub.add_parser("thermo", help="column summary of the thermo output of a log")

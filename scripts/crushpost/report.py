@@ -47,7 +47,7 @@ from .snapshot import list_snapshots, read_snapshot, snapshot_particle_stress
 from .spheres import read_sphere_series
 from .stress import invariants
 from .thermo import parse_log
-from .trend import fit_qc_trend, virgin_mask
+from .trend import fit_qc_trend, qc_band_means, virgin_mask
 
 __all__ = ["ReportInputError", "ReportOptions", "make_report", "read_reference",
            "HEADLINE_NAMES", "STATE_KINDS"]
@@ -65,6 +65,7 @@ LABEL = {"sigma_r": r"$\sigma_r$", "sigma_theta": r"$\sigma_\theta$", "sigma_z":
 #: headline numbers (names the --reference file may use) and their units
 HEADLINE_NAMES = {
     "qc_steady_MPa": "MPa", "qc_steady_err_MPa": "MPa", "qc_fit_b_per_m": "1/m",
+    "qc_last3_bands_MPa": "MPa",
     "final_depth_mm": "mm", "n_break_events": "-", "Br_sample": "-",
     "peak_q_over_p": "-", "max_rotation_deg": "deg", "mass_balance_rel_error": "-",
     "lost_atoms": "-", "porosity_initial": "-", "sigma_r_initial_kPa": "kPa",
@@ -435,6 +436,21 @@ def _qc(rep, ctx):
     rep.put("qc", step=jack["step"], time=jack["time"], depth=depth, qc=qc, phase=phase,
             virgin=virgin.astype(np.int8))
     rep.head["final_depth_mm"] = float(depth.max() * 1e3)
+    # band means: a plateau read that assumes no shape of q_c(h), on the
+    # layers of the rings (the fit below can run away when q_c has not
+    # levelled off; the bands cannot)
+    dz = rep.opt.ring_height
+    if virgin.any():
+        top, mean, count = qc_band_means(depth[virgin], qc[virgin], dz)
+        rep.put("qc", band_bottom=top, band_mean=mean, band_count=count)
+        rep.attrs("qc", band_height=dz)
+        if top.size >= 3 and count[-3:].sum() > 0:
+            # every point of the three bands (a band's weight is its count)
+            last3 = np.nansum(mean[-3:] * count[-3:]) / count[-3:].sum()
+            rep.head["qc_last3_bands_MPa"] = float(last3 / 1e6)
+            rep.head_notes["qc_last3_bands_MPa"] = (
+                "mean q_c of virgin penetration over the last three %g mm bands, %g-%g mm"
+                % (dz * 1e3, (top[-1] - 3 * dz) * 1e3, top[-1] * 1e3))
     if virgin.sum() < 3:
         rep.skip("q_c trend fit", "%s: %d points of virgin penetration; need 3"
                  % (rep.path("jack.txt"), int(virgin.sum())))

@@ -136,8 +136,10 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
     MPa, with b h at the final depth: levelled off when > 3), Br of the band
     1 < r/R < 2 over the whole height at the last state, and the radial
     stress at r = 2R, h/R = 0.5 above the apex at the last end of a push
-    (kPa, and over q_c at that state). summary: the dict of summary.json;
-    fields_path: fields.h5 of `crushpost report`."""
+    (kPa, and over q_c at that state); the mean q_c of virgin penetration
+    in depth bands of the rings' height (MPa, from the surface down) and
+    over the last three of them, which lean on no fit. summary: the dict of
+    summary.json; fields_path: fields.h5 of `crushpost report`."""
     import h5py
     out = {"qc_steady_MPa": summary.get("qc_steady_MPa"),
            "qc_fit_b_per_m": summary.get("qc_fit_b"),
@@ -147,6 +149,12 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
     with h5py.File(fields_path, "r") as f:
         kinds = np.array([k.decode() if isinstance(k, bytes) else str(k) for k in f["states/kind"][()]])
         push = np.flatnonzero(kinds == "push_end")
+        if "qc/band_mean" in f:
+            out["qc_band_means_MPa"] = [None if not np.isfinite(v) else float(v) / 1e6
+                                        for v in f["qc/band_mean"][()]]
+            out["qc_band_height_m"] = float(f["qc"].attrs["band_height"])
+        if "headline" in f and "qc_last3_bands_MPa" in f["headline"].attrs:
+            out["qc_last3_bands_MPa"] = float(f["headline"].attrs["qc_last3_bands_MPa"])
         if "breakage/bands" in f:
             g = f["breakage/bands"]
             out["Br_band_1_2"] = band_value(g["band_edges_over_R"][()], g["Br_band"][()][-1], *band)

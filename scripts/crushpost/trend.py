@@ -9,7 +9,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import curve_fit
 
-__all__ = ["qc_trend", "QcFit", "fit_qc_trend", "virgin_mask"]
+__all__ = ["qc_trend", "QcFit", "fit_qc_trend", "virgin_mask", "qc_band_means"]
 
 
 def qc_trend(h, a, b):
@@ -105,3 +105,41 @@ def virgin_mask(depth, phase=None, atol=None, push_phase=0):
             raise ValueError("depth and phase must have the same length")
         mask &= ph == push_phase
     return mask
+
+
+def qc_band_means(h, q_c, width, h_end=None):
+    """Mean ``q_c`` over bands of depth ``[k width, (k + 1) width)``, k = 0,
+    1, ...: a plateau estimate that, unlike the trend fit, assumes no shape
+    (docs/error-vs-runtime.md reads the bands from 75 mm on and the mean of
+    the last three). Called by the ``fit-qc`` command and the chamber report
+    on the points of virgin penetration.
+
+    Parameters: ``h`` (n,) depth, ``q_c`` (n,) tip resistance, ``width`` the
+    band height (``h`` units, > 0), ``h_end`` the depth the bands end at (by
+    default the deepest point: its band is the last one, the point itself
+    counted in the band below when it sits exactly on a band's top).
+    Returns ``(h_top, mean, count)``, each (m,): the band's lower end
+    (deeper edge) ``(k + 1) width``, the mean (NaN for an empty band) and
+    the number of points. Points with ``h < 0`` or ``h > h_end`` are left
+    out.
+    """
+    h = np.asarray(h, dtype=float).ravel()
+    q = np.asarray(q_c, dtype=float).ravel()
+    if h.shape != q.shape:
+        raise ValueError("h and q_c must have the same length")
+    if not width > 0:
+        raise ValueError("band width must be > 0, got %r" % (width,))
+    ok = np.isfinite(h) & np.isfinite(q) & (h >= 0)
+    if h_end is None:
+        h_end = float(h[ok].max()) if ok.any() else 0.0
+    ok &= h <= h_end
+    # the band holding h_end is the last; a point on a band's top belongs to
+    # the band above it only at h_end itself (so h_end = 0.2, width 0.025
+    # gives 8 bands, not 9 with one point)
+    n_band = max(1, int(np.ceil(h_end / width - 1e-9)))
+    k = np.minimum(np.floor(h[ok] / width).astype(np.int64), n_band - 1)
+    count = np.bincount(k, minlength=n_band)
+    total = np.bincount(k, weights=q[ok], minlength=n_band)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    return width * np.arange(1, n_band + 1), mean, count

@@ -96,6 +96,18 @@ def test_fit_qc(tmp_path, capsys):
     assert fit["a"] == pytest.approx(9e6, rel=0.02)
     assert fit["b"] == pytest.approx(5.0, rel=0.05)
     assert fit["a_err"] > 0 and fit["b_err"] > 0
+    # band means over the default 0.025 (in h units): 40 bands of 1 m, each
+    # the mean of the trend over its band (analytic integral) within the noise
+    assert fit["band_width"] == 0.025 and len(fit["band_mean"]) == 40
+    lo, hi = np.array(fit["band_bottom"]) - 0.025, np.array(fit["band_bottom"])
+    exact = 9e6 * (1 - (np.exp(-5 * lo) - np.exp(-5 * hi)) / (5 * (hi - lo)))
+    assert np.allclose(fit["band_mean"], exact, rtol=0, atol=1.5e5)
+    assert sum(fit["band_count"]) == 300
+    last3 = np.dot(fit["band_mean"][-3:], fit["band_count"][-3:]) / sum(fit["band_count"][-3:])
+    assert fit["mean_last3_bands"] == pytest.approx(last3, rel=1e-12)
+    assert main(["fit-qc", str(path), "--band-width", "0.5"]) == 0
+    fit = json.loads(capsys.readouterr().out)
+    assert fit["band_bottom"] == [0.5, 1.0] and "mean_last3_bands" not in fit
 
 
 def test_thermo_summary(tmp_path, capsys):

@@ -215,6 +215,13 @@ def test_fields_h5_holds_the_numbers(report, run):
         head = dict(f["headline"].attrs)
         assert head["qc_steady_MPa"] == pytest.approx(A_QC / 1e6, rel=1e-6)
         assert head["lost_atoms"] == 0 and head["n_break_events"] == 4
+        # one 25 mm band holds the 40 points of virgin penetration (the
+        # re-push's first row, below the deepest point, and the done row are out)
+        virgin = np.concatenate([np.linspace(0.0, 0.01, 21)[1:], np.linspace(0.01, 0.02, 21)[1:]])
+        assert f["qc/band_count"][()].tolist() == [40]
+        assert f["qc/band_mean"][0] == pytest.approx(np.mean(qc_trend(virgin, A_QC, B_QC)),
+                                                     rel=1e-12)
+        assert "qc_last3_bands_MPa" not in head       # fewer than three bands
 
 
 def test_reference_column(report):
@@ -323,6 +330,23 @@ def test_run_without_snapshots_gets_the_rest(tmp_path):
     made = sorted(os.listdir(tmp_path / "out"))
     assert made == ["breakage_density.png", "fields.h5", "qc_depth.png", "report.html",
                     "spheres_q_over_p.png"]
+
+
+def test_band_means_over_the_ring_height(tmp_path):
+    # bands of 5.1 mm (no point on an edge): four to 20 mm; the headline is
+    # the mean over every virgin point of the last three, h >= 5.1 mm
+    run = make_run(tmp_path / "run", snapshots=False)
+    assert main(["report", str(run), "--out", str(tmp_path / "out"), "--ring-height", "0.0051",
+                 "--quiet"]) == 0
+    virgin = np.concatenate([np.linspace(0.0, 0.01, 21)[1:], np.linspace(0.01, 0.02, 21)[1:]])
+    q = qc_trend(virgin, A_QC, B_QC)
+    with h5py.File(tmp_path / "out" / "fields.h5", "r") as f:
+        assert f["qc/band_bottom"][()] == pytest.approx(0.0051 * np.arange(1, 5))
+        assert f["qc/band_count"][()].tolist() == [10, 10, 10, 10]
+        assert f["qc/band_mean"][0] == pytest.approx(np.mean(q[virgin < 0.0051]), rel=1e-12)
+        assert f["headline"].attrs["qc_last3_bands_MPa"] == pytest.approx(
+            np.mean(q[virgin > 0.0051]) / 1e6, rel=1e-12)
+    assert "qc_last3_bands_MPa" in (tmp_path / "out" / "report.html").read_text()
 
 
 @pytest.mark.parametrize("argv, words", [

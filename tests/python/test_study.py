@@ -80,6 +80,9 @@ def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
         f["rings/sigma_r"] = sr
         f["breakage/bands/band_edges_over_R"] = np.array([0.0, 1.0, 2.0, 3.0])
         f["breakage/bands/Br_band"] = np.array([[0, 0, 0], [0.3, 0.2, 0.1], [0.31, 0.21, 0.11]])
+        f["qc/band_mean"] = np.array([1e6, np.nan, 14e6])
+        f["qc"].attrs["band_height"] = 0.025
+        f.require_group("headline").attrs["qc_last3_bands_MPa"] = 13.5
     summ = {"qc_steady_MPa": 12.0, "qc_fit_b": 40.0, "final_depth_m": 0.1,
             "qc_levelled_off": True, "n_break_events": 7}
     m = study.chamber_metrics(summ, str(p))
@@ -87,6 +90,8 @@ def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
     assert m["sigma_r_2R_over_qc"] == pytest.approx(205e3 / 10e6)
     assert m["Br_band_1_2"] == pytest.approx(0.21)      # last state
     assert m["b_h"] == pytest.approx(4.0)
+    assert m["qc_band_means_MPa"] == [1.0, None, 14.0] and m["qc_band_height_m"] == 0.025
+    assert m["qc_last3_bands_MPa"] == 13.5
 
 
 def test_paired_ratio_pairs_settings_run_with_both_models():

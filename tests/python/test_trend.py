@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from crushpost.trend import fit_qc_trend, qc_trend, virgin_mask
+from crushpost.trend import fit_qc_trend, qc_band_means, qc_trend, virgin_mask
 
 
 def test_model_values():
@@ -84,3 +84,35 @@ def test_fit_on_virgin_points_is_unbiased_by_repushes():
     assert fit.a == pytest.approx(a, rel=1e-8) and fit.b == pytest.approx(b, rel=1e-8)
     biased = fit_qc_trend(depth[push], qc[push])
     assert biased.a < 0.98 * a        # 3.3 % low here
+
+
+def test_band_means_of_a_linear_q_c_are_the_band_centres():
+    # q_c = h on a uniform grid with no point on a band's edge: each band's
+    # mean is its centre depth
+    h = (np.arange(8000) + 0.5) * 2.5e-5
+    bottom, mean, count = qc_band_means(h, h, 0.025, h_end=0.2)
+    assert np.allclose(bottom, 0.025 * np.arange(1, 9), rtol=0, atol=1e-15)
+    assert np.allclose(mean, bottom - 0.0125, rtol=0, atol=1e-12)
+    assert count.tolist() == [1000] * 8
+    # the deepest point on a band's edge ends the last band, not a band of
+    # its own
+    bottom, mean, count = qc_band_means([0.01, 0.05], [1.0, 2.0], 0.025)
+    assert bottom.size == 2 and count.tolist() == [1, 1]
+
+
+def test_band_means_exact_on_known_points():
+    h = [0.01, 0.02, 0.03, 0.06, 0.07, -0.01, np.nan]
+    q = [1.0, 3.0, 10.0, 5.0, 7.0, 100.0, 100.0]
+    bottom, mean, count = qc_band_means(h, q, 0.025)
+    assert bottom.tolist() == pytest.approx([0.025, 0.05, 0.075])
+    assert mean[0] == 2.0 and mean[1] == 10.0 and mean[2] == 6.0
+    assert count.tolist() == [2, 1, 2]          # h < 0 and NaN left out
+    # an empty band is NaN with count 0; h_end cuts the deeper points off
+    bottom, mean, count = qc_band_means([0.01, 0.06], [1.0, 2.0], 0.025)
+    assert np.isnan(mean[1]) and count.tolist() == [1, 0, 1]
+    bottom, mean, count = qc_band_means(h, q, 0.025, h_end=0.05)
+    assert count.tolist() == [2, 1] and mean.tolist() == [2.0, 10.0]
+    with pytest.raises(ValueError):
+        qc_band_means([0.1], [1.0], 0.0)
+    with pytest.raises(ValueError):
+        qc_band_means([0.1, 0.2], [1.0], 0.025)
