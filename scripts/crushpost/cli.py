@@ -15,7 +15,7 @@ from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
 from .pile import read_jack
-from .trend import fit_qc_trend, qc_band_means, virgin_mask
+from .trend import fit_qc_trend, mean_of_last_bands, qc_band_means, virgin_mask
 
 # Calibrated NE34 limits at real size (SPEC 3) [m]; scaled by N.
 D_MIN_REAL = 0.01e-3
@@ -150,8 +150,9 @@ def _cmd_fit_qc(args):
     extra.update(band_width=args.band_width, band_bottom=bottom.tolist(),
                  band_mean=[None if not np.isfinite(m) else float(m) for m in mean],
                  band_count=count.tolist())
-    if bottom.size >= 3 and count[-3:].sum() > 0:
-        extra["mean_last3_bands"] = float(np.nansum(mean[-3:] * count[-3:]) / count[-3:].sum())
+    last3 = mean_of_last_bands(mean, count, 3)
+    if last3 is not None:
+        extra["mean_last3_bands"] = last3
     print(json.dumps(dict(fit._asdict(), **extra)))
     return 0
 

@@ -47,7 +47,7 @@ from .snapshot import list_snapshots, read_snapshot, snapshot_particle_stress
 from .spheres import read_sphere_series
 from .stress import invariants
 from .thermo import parse_log
-from .trend import fit_qc_trend, qc_band_means, virgin_mask
+from .trend import fit_qc_trend, mean_of_last_bands, qc_band_means, virgin_mask
 
 __all__ = ["ReportInputError", "ReportOptions", "make_report", "read_reference",
            "HEADLINE_NAMES", "STATE_KINDS"]
@@ -444,10 +444,9 @@ def _qc(rep, ctx):
         top, mean, count = qc_band_means(depth[virgin], qc[virgin], dz)
         rep.put("qc", band_bottom=top, band_mean=mean, band_count=count)
         rep.attrs("qc", band_height=dz)
-        if top.size >= 3 and count[-3:].sum() > 0:
-            # every point of the three bands (a band's weight is its count)
-            last3 = np.nansum(mean[-3:] * count[-3:]) / count[-3:].sum()
-            rep.head["qc_last3_bands_MPa"] = float(last3 / 1e6)
+        last3 = mean_of_last_bands(mean, count, 3)
+        if last3 is not None:
+            rep.head["qc_last3_bands_MPa"] = last3 / 1e6
             rep.head_notes["qc_last3_bands_MPa"] = (
                 "mean q_c of virgin penetration over the last three %g mm bands, %g-%g mm"
                 % (dz * 1e3, (top[-1] - 3 * dz) * 1e3, top[-1] * 1e3))

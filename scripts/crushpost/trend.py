@@ -9,7 +9,8 @@ from typing import NamedTuple
 import numpy as np
 from scipy.optimize import curve_fit
 
-__all__ = ["qc_trend", "QcFit", "fit_qc_trend", "virgin_mask", "qc_band_means"]
+__all__ = ["qc_trend", "QcFit", "fit_qc_trend", "virgin_mask", "qc_band_means",
+           "mean_of_last_bands"]
 
 
 def qc_trend(h, a, b):
@@ -143,3 +144,14 @@ def qc_band_means(h, q_c, width, h_end=None):
     with np.errstate(invalid="ignore", divide="ignore"):
         mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
     return width * np.arange(1, n_band + 1), mean, count
+
+
+def mean_of_last_bands(mean, count, n=3):
+    """Mean q_c over every point of the last ``n`` bands of
+    :func:`qc_band_means` (each band weighted by its count); None with fewer
+    than ``n`` bands or no point in them. Called by the ``fit-qc`` command
+    and the chamber report."""
+    mean, count = np.asarray(mean, dtype=float), np.asarray(count)
+    if mean.size < n or count[-n:].sum() == 0:
+        return None
+    return float(np.nansum(mean[-n:] * count[-n:]) / count[-n:].sum())

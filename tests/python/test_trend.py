@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from crushpost.trend import fit_qc_trend, qc_band_means, qc_trend, virgin_mask
+from crushpost.trend import (fit_qc_trend, mean_of_last_bands, qc_band_means, qc_trend,
+                             virgin_mask)
 
 
 def test_model_values():
@@ -116,3 +117,12 @@ def test_band_means_exact_on_known_points():
         qc_band_means([0.1], [1.0], 0.0)
     with pytest.raises(ValueError):
         qc_band_means([0.1, 0.2], [1.0], 0.025)
+
+
+def test_mean_of_last_bands_weights_each_band_by_its_points():
+    # bands of 1 (x1), 2 (x3), NaN (empty), 5 (x1): the last three hold
+    # points 2, 2, 2, 5 -> 11 / 4
+    assert mean_of_last_bands([1.0, 2.0, np.nan, 5.0], [1, 3, 0, 1]) == 2.75
+    assert mean_of_last_bands([2.0, 5.0], [1, 1]) is None          # two bands only
+    assert mean_of_last_bands([1.0, np.nan, np.nan, np.nan], [1, 0, 0, 0]) is None
+    assert mean_of_last_bands([1.0, 3.0], [1, 1], n=1) == 3.0
