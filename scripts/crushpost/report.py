@@ -66,7 +66,8 @@ LABEL = {"sigma_r": r"$\sigma_r$", "sigma_theta": r"$\sigma_\theta$", "sigma_z":
 HEADLINE_NAMES = {
     "qc_steady_MPa": "MPa", "qc_steady_err_MPa": "MPa", "qc_fit_b_per_m": "1/m",
     "qc_last3_bands_MPa": "MPa",
-    "final_depth_mm": "mm", "n_break_events": "-", "Br_sample": "-",
+    "final_depth_mm": "mm", "n_break_events": "-", "n_break_events_first_step": "-",
+    "Br_sample": "-",
     "peak_q_over_p": "-", "max_rotation_deg": "deg", "mass_balance_rel_error": "-",
     "lost_atoms": "-", "porosity_initial": "-", "sigma_r_initial_kPa": "kPa",
     "sigma_theta_initial_kPa": "kPa", "sigma_z_initial_kPa": "kPa",
@@ -531,6 +532,18 @@ def _log_numbers(rep, ctx):
             rep.head["lost_atoms"] = expected - int(last["Atoms"][-1])
             rep.head_notes["lost_atoms"] = (
                 "atoms at the start of jacking + 13 per break - atoms at the end (log)")
+        events = ctx["events"]
+        if events is not None and "Step" in first:
+            # crushing is switched on with the jacking: the weakest grains of
+            # the strength scatter (f_p far below 1, F_lim ~ f_p^3) are already
+            # loaded past their limit by the prepared state and break at the
+            # first step, wherever they are, not because of the pile
+            start = int(first["Step"][0])
+            rep.head["n_break_events_first_step"] = int(np.count_nonzero(events["step"] == start + 1))
+            rep.head_notes["n_break_events_first_step"] = (
+                "break events at the first step of jacking (step %d), when crushing is switched "
+                "on: grains the prepared state already loads past their limit, not the pile's; "
+                "counted in n_break_events and in Br" % (start + 1))
     if "Br" in last:
         rep.head["Br_sample"] = float(last["Br"][-1])
         rep.head_notes["Br_sample"] = "the fix's bounded Br of the whole sample at the end (log)"

@@ -138,7 +138,8 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
     stress at r = 2R, h/R = 0.5 above the apex at the last end of a push
     (kPa, and over q_c at that state); the mean q_c of virgin penetration
     in depth bands of the rings' height (MPa, from the surface down) and
-    over the last three of them, which lean on no fit. summary: the dict of
+    over the last three of them, which lean on no fit; the breaks at the
+    first step of jacking (crushing's switch-on). summary: the dict of
     summary.json; fields_path: fields.h5 of `crushpost report`."""
     import h5py
     out = {"qc_steady_MPa": summary.get("qc_steady_MPa"),
@@ -153,8 +154,11 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
             out["qc_band_means_MPa"] = [None if not np.isfinite(v) else float(v) / 1e6
                                         for v in f["qc/band_mean"][()]]
             out["qc_band_height_m"] = float(f["qc"].attrs["band_height"])
-        if "headline" in f and "qc_last3_bands_MPa" in f["headline"].attrs:
-            out["qc_last3_bands_MPa"] = float(f["headline"].attrs["qc_last3_bands_MPa"])
+        head = f["headline"].attrs if "headline" in f else {}
+        if "qc_last3_bands_MPa" in head:
+            out["qc_last3_bands_MPa"] = float(head["qc_last3_bands_MPa"])
+        if "n_break_events_first_step" in head:
+            out["n_break_events_first_step"] = int(head["n_break_events_first_step"])
         if "breakage/bands" in f:
             g = f["breakage/bands"]
             out["Br_band_1_2"] = band_value(g["band_edges_over_R"][()], g["Br_band"][()][-1], *band)

@@ -222,6 +222,7 @@ def test_fields_h5_holds_the_numbers(report, run):
         assert f["qc/band_mean"][0] == pytest.approx(np.mean(qc_trend(virgin, A_QC, B_QC)),
                                                      rel=1e-12)
         assert "qc_last3_bands_MPa" not in head       # fewer than three bands
+        assert head["n_break_events_first_step"] == 0  # the events come at steps 3090, ...
 
 
 def test_reference_column(report):
@@ -347,6 +348,18 @@ def test_band_means_over_the_ring_height(tmp_path):
         assert f["headline"].attrs["qc_last3_bands_MPa"] == pytest.approx(
             np.mean(q[virgin > 0.0051]) / 1e6, rel=1e-12)
     assert "qc_last3_bands_MPa" in (tmp_path / "out" / "report.html").read_text()
+
+
+def test_breaks_at_the_first_step_of_jacking_are_counted_apart(tmp_path):
+    # the log's jacking block starts at step 1000: events at step 1001 are
+    # the breaks of crushing's switch-on; those one step later are not
+    run = make_run(tmp_path / "run", snapshots=False)
+    with open(run / "breakage_events.txt", "a") as f:
+        for step in (1001, 1001, 1001, 1002):
+            f.write("%d 1e-4 7 0.006 0.03 0.0 0.05 5.0 1.0 particle 0\n" % step)
+    assert main(["report", str(run), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    with h5py.File(tmp_path / "out" / "fields.h5", "r") as f:
+        assert f["headline"].attrs["n_break_events_first_step"] == 3
 
 
 @pytest.mark.parametrize("argv, words", [

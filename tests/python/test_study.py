@@ -83,6 +83,7 @@ def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
         f["qc/band_mean"] = np.array([1e6, np.nan, 14e6])
         f["qc"].attrs["band_height"] = 0.025
         f.require_group("headline").attrs["qc_last3_bands_MPa"] = 13.5
+        f["headline"].attrs["n_break_events_first_step"] = 3
     summ = {"qc_steady_MPa": 12.0, "qc_fit_b": 40.0, "final_depth_m": 0.1,
             "qc_levelled_off": True, "n_break_events": 7}
     m = study.chamber_metrics(summ, str(p))
@@ -91,7 +92,7 @@ def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
     assert m["Br_band_1_2"] == pytest.approx(0.21)      # last state
     assert m["b_h"] == pytest.approx(4.0)
     assert m["qc_band_means_MPa"] == [1.0, None, 14.0] and m["qc_band_height_m"] == 0.025
-    assert m["qc_last3_bands_MPa"] == 13.5
+    assert m["qc_last3_bands_MPa"] == 13.5 and m["n_break_events_first_step"] == 3
 
 
 def test_paired_ratio_pairs_settings_run_with_both_models():
