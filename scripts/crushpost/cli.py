@@ -116,6 +116,9 @@ def _is_jack_series(path):
 
 
 def _cmd_fit_qc(args):
+    if not args.band_width > 0:
+        raise ValueError("--band-width must be > 0 (the band height, in the units of h), got %g"
+                         % args.band_width)
     if _read(args.file, _is_empty, "a text file"):
         raise InputFileError("%s: empty file; expected columns h and q_c, or a fix jack/pile "
                              "series" % args.file)
@@ -143,9 +146,6 @@ def _cmd_fit_qc(args):
     except (ValueError, RuntimeError) as exc:  # too few points, no convergence
         raise InputFileError("%s: cannot fit q_c(h) to the points of the file (%d: %s)"
                              % (args.file, h.size, exc)) from None
-    if not args.band_width > 0:
-        raise ValueError("--band-width must be > 0 (the band height, in the units of h), got %g"
-                         % args.band_width)
     bottom, mean, count = qc_band_means(h, q, args.band_width)
     extra.update(band_width=args.band_width, band_bottom=bottom.tolist(),
                  band_mean=[None if not np.isfinite(m) else float(m) for m in mean],

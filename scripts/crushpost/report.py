@@ -442,15 +442,15 @@ def _qc(rep, ctx):
     # levelled off; the bands cannot)
     dz = rep.opt.ring_height
     if virgin.any():
-        top, mean, count = qc_band_means(depth[virgin], qc[virgin], dz)
-        rep.put("qc", band_bottom=top, band_mean=mean, band_count=count)
+        bottom, mean, count = qc_band_means(depth[virgin], qc[virgin], dz)
+        rep.put("qc", band_bottom=bottom, band_mean=mean, band_count=count)
         rep.attrs("qc", band_height=dz)
         last3 = mean_of_last_bands(mean, count, 3)
         if last3 is not None:
             rep.head["qc_last3_bands_MPa"] = last3 / 1e6
             rep.head_notes["qc_last3_bands_MPa"] = (
                 "mean q_c of virgin penetration over the last three %g mm bands, %g-%g mm"
-                % (dz * 1e3, (top[-1] - 3 * dz) * 1e3, top[-1] * 1e3))
+                % (dz * 1e3, (bottom[-1] - 3 * dz) * 1e3, bottom[-1] * 1e3))
     if virgin.sum() < 3:
         rep.skip("q_c trend fit", "%s: %d points of virgin penetration; need 3"
                  % (rep.path("jack.txt"), int(virgin.sum())))

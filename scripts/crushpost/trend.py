@@ -117,12 +117,11 @@ def qc_band_means(h, q_c, width, h_end=None):
 
     Parameters: ``h`` (n,) depth, ``q_c`` (n,) tip resistance, ``width`` the
     band height (``h`` units, > 0), ``h_end`` the depth the bands end at (by
-    default the deepest point: its band is the last one, the point itself
-    counted in the band below when it sits exactly on a band's top).
-    Returns ``(h_top, mean, count)``, each (m,): the band's lower end
-    (deeper edge) ``(k + 1) width``, the mean (NaN for an empty band) and
-    the number of points. Points with ``h < 0`` or ``h > h_end`` are left
-    out.
+    default the deepest point; its band is the last one, and a point at
+    ``h_end`` exactly on a band edge is counted in the shallower band).
+    Returns ``(h_bottom, mean, count)``, each (m,): the band's deeper edge
+    ``(k + 1) width``, the mean (NaN for an empty band) and the number of
+    points. Points with ``h < 0`` or ``h > h_end`` are left out.
     """
     h = np.asarray(h, dtype=float).ravel()
     q = np.asarray(q_c, dtype=float).ravel()
@@ -134,15 +133,13 @@ def qc_band_means(h, q_c, width, h_end=None):
     if h_end is None:
         h_end = float(h[ok].max()) if ok.any() else 0.0
     ok &= h <= h_end
-    # the band holding h_end is the last; a point on a band's top belongs to
-    # the band above it only at h_end itself (so h_end = 0.2, width 0.025
-    # gives 8 bands, not 9 with one point)
+    # the band holding h_end is the last: h_end = 0.2, width 0.025 gives 8
+    # bands, not a 9th holding the deepest point alone
     n_band = max(1, int(np.ceil(h_end / width - 1e-9)))
     k = np.minimum(np.floor(h[ok] / width).astype(np.int64), n_band - 1)
     count = np.bincount(k, minlength=n_band)
     total = np.bincount(k, weights=q[ok], minlength=n_band)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    mean = np.where(count > 0, total / np.maximum(count, 1), np.nan)
     return width * np.arange(1, n_band + 1), mean, count
 
 
