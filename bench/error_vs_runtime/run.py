@@ -53,8 +53,8 @@ import numpy as np  # noqa: E402
 
 from crushpost import restart as rs  # noqa: E402
 from crushpost import study  # noqa: E402
-from crushpost.runner import (default_binary, log_errors, process_alive, remove_tree,  # noqa: E402
-                              snapshot_tree)
+from crushpost.runner import (default_binary, log_errors, process_alive, read_pid,  # noqa: E402
+                              remove_tree, snapshot_tree)
 from crushpost.thermo import parse_log  # noqa: E402
 
 # NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
@@ -279,11 +279,7 @@ def claim(out):
     process has it already (two calls side by side take different pieces)."""
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, CLAIM)
-    try:
-        with open(path) as f:
-            pid = int(f.read().split()[0])
-    except (OSError, ValueError, IndexError):
-        pid = None                   # no claim
+    pid = read_pid(path)             # None: no claim
     if pid is not None and pid != os.getpid() and process_alive(pid):
         return False                 # (a dead process's claim is taken over)
     with open(path, "w") as f:

@@ -12,7 +12,7 @@ import sys
 import time
 
 __all__ = ["default_binary", "mpirun_command", "run_liggghts", "log_errors", "stop_on_failure",
-           "snapshot_tree", "prune_trees", "remove_tree", "process_alive"]
+           "snapshot_tree", "prune_trees", "remove_tree", "process_alive", "read_pid"]
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -82,6 +82,16 @@ def run_liggghts(deck, workdir, variables, np=1, binary=None, name="liggghts", l
 OWNER = "owner.pid"
 
 
+def read_pid(path):
+    """The pid a file (a claim, a copy's owner) names on its first line;
+    None when the file is missing or holds no pid."""
+    try:
+        with open(path) as f:
+            return int(f.read().split()[0])
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 def process_alive(pid):
     """Whether a process with this pid is running (a claim's or a copy's
     owner)."""
@@ -108,12 +118,8 @@ def prune_trees(work):
         path = os.path.join(work, name)
         if not (name.startswith("_tree_") and os.path.isdir(path)):
             continue
-        try:
-            with open(os.path.join(path, OWNER)) as f:
-                pid = int(f.read().split()[0])
-        except (OSError, ValueError, IndexError):
-            continue
-        if pid != os.getpid() and not process_alive(pid):
+        pid = read_pid(os.path.join(path, OWNER))
+        if pid is not None and pid != os.getpid() and not process_alive(pid):
             shutil.rmtree(path, ignore_errors=True)
             removed.append(path)
     return removed
