@@ -26,6 +26,23 @@ inline double density_scale_factor(double d, double d_ref)
   return s * s;
 }
 
+// Velocity factor of the fragments of one break under density scaling.
+// Fragments are inscribed in the parent and take its velocity times this
+// factor, sum_true / sum_scaled (sums over the fragments kept: true and
+// scaled masses). Their momentum is then sum_true v, that of the same
+// fragments without scaling (the fines carry the rest off, as without
+// scaling), and never more than the parent's scaled momentum; their scaled
+// kinetic energy (sum_true v)^2 / (2 sum_scaled) is at most that of the
+// unscaled fragments, sum_true v^2 / 2 (sum_scaled >= sum_true). With
+// scaling off (or no fragment scaled) the factor is exactly 1: fragments take
+// the parent's velocity. Called by FixCrushParticle::break_particles and
+// FixCrushParticle::energy_of_breaks.
+inline double fragment_velocity_factor(double sum_true, double sum_scaled)
+{
+  if (!(sum_scaled > 0.0) || sum_scaled == sum_true) return 1.0;
+  return sum_true / sum_scaled;
+}
+
 }  // namespace CrushKernels
 
 #endif

@@ -17,11 +17,13 @@
 #include "crush_args.h"
 #include "crush_breakage_index_kernel.h"
 #include "crush_breakage_kernel.h"
+#include "crush_criterion_kernel.h"
 #include "crush_density_scale_kernel.h"
 #include "crush_energy.h"
 #include "crush_energy_kernel.h"
 #include "crush_fragment_kernel.h"
 #include "crush_stability_kernel.h"
+#include "crush_strength_kernel.h"
 #include "crush_wall_contacts.h"
 #include "domain.h"
 #include "error.h"
@@ -66,7 +68,8 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
   Fix(lmp, narg, arg),
   sigma_lim0_(-1), m_(-1), d0_(-1), scale_N_(-1), var_(-1), d_comm_(-1), seed_(0),
   d_max_(-1), d_min_(-1), omega_(2.6), fines_fractal_(true), d_frag_min_(0.0),
-  d_scale_ref_(0.0), dt_check_error_(false), dt_frac_(0.2), dt_omega_(1.0), events_file_(NULL), events_append_(false), events_(NULL),
+  d_scale_ref_(0.0), pressure_(PRESSURE_MEAN), force_(FORCE_NORMAL), size_law_(SIZE_PRINTED),
+  scatter_(SCATTER_NORMAL), f_min_(0.0), weibull_k_(0.0), dt_check_error_(false), dt_frac_(0.2), dt_omega_(1.0), events_file_(NULL), events_append_(false), events_(NULL),
   crush_(NULL), ntypes_mat_(0), pair_(NULL),
   count_pending_(false), count_local_(0), count_all_(0),
   margin_skip_(true), full_scan_pending_(true), scanned_since_full_(0.0),
@@ -131,7 +134,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
               {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed", "br", "d_max", "d_min",
                "omega", "fines_grading", "d_frag_min", "events", "events_append", "dt_check",
                "dt_frac", "dt_omega", "margin_skip", "density_scale", "energy", "energy_window",
-               "energy_budget"});
+               "energy_budget", "pressure", "force", "size_law", "scatter", "f_min"});
   while (a.next()) {
     if (a.is("sigma_lim0")) sigma_lim0_ = a.number(arg_positive("Pa"));
     else if (a.is("m")) m_ = a.number(arg_positive(""));
@@ -161,6 +164,23 @@ void FixCrushParticle::parse_args(int narg, char **arg)
     else if (a.is("energy")) energy_on_ = a.yes_no();
     else if (a.is("energy_budget")) energy_budget_ = a.yes_no();
     else if (a.is("energy_window")) energy_window_ = (int)a.integer(1, 1000000000, "an integer >= 1 (steps)");
+    // criterion readings (docs/fix_crush_particle.md "Criterion readings")
+    else if (a.is("pressure")) pressure_ = a.choice({"mean", "peak"}) == 1 ? PRESSURE_PEAK : PRESSURE_MEAN;
+    else if (a.is("force")) force_ = a.choice({"normal", "sliding"}) == 1 ? FORCE_SLIDING : FORCE_NORMAL;
+    else if (a.is("size_law")) size_law_ = a.choice({"printed", "no_N"}) == 1 ? SIZE_NO_N : SIZE_PRINTED;
+    else if (a.is("scatter")) scatter_ = a.choice({"normal", "truncated", "weibull"});
+    else if (a.is("f_min")) f_min_ = a.number(arg_range(0.0, true, 1.0, false, "in [0, 1)"));
+  }
+
+  if (a.given("f_min") && scatter_ != SCATTER_TRUNCATED)
+    error->all(FLERR, "fix crush/particle: keyword 'f_min' belongs to 'scatter truncated'");
+  if (scatter_ == SCATTER_TRUNCATED && !a.given("f_min"))
+    error->all(FLERR, "fix crush/particle: 'scatter truncated' needs keyword 'f_min' (the bound of f, in [0, 1))");
+  if (scatter_ == SCATTER_WEIBULL) {
+    if (var_ > 0.0 && !(var_ >= 0.01 && var_ <= 5.0))
+      error->all(FLERR, "fix crush/particle: 'scatter weibull' needs keyword 'var' in [0.01, 5] "
+                        "(the coefficient of variation of the law), or 0");
+    if (var_ > 0.0) weibull_k_ = weibull_shape_for_cov(var_);
   }
 
   if (energy_budget_ && !energy_on_)
@@ -240,11 +260,34 @@ void FixCrushParticle::init()
     E_[t] = Y->compute_vector(t);
     nu_[t] = nu->compute_vector(t);
   }
+  // the reading's factor on F_lim per type pair (friction for 'force sliding')
+  limit_factor_.assign(ntypes_mat_ * ntypes_mat_, pressure_limit_factor(pressure_));
+  if (force_ == FORCE_SLIDING) {
+    FixPropertyGlobal *mu = static_cast<FixPropertyGlobal *>(modify->find_fix_property(
+        "coefficientFriction", "property/global", "peratomtypepair", ntypes_mat_, ntypes_mat_, style));
+    for (int a = 0; a < ntypes_mat_; a++)
+      for (int b = 0; b < ntypes_mat_; b++)
+        limit_factor_[a * ntypes_mat_ + b] *= force_limit_factor(FORCE_SLIDING, mu->compute_array(a, b));
+  }
   for (int a = 0; a < ntypes_mat_; a++)
     for (int b = 0; b < ntypes_mat_; b++) {
-      E_star_[a * ntypes_mat_ + b] = effective_modulus(E_[a], nu_[a], E_[b], nu_[b]);
-      overlap_coef_[a * ntypes_mat_ + b] = limit_overlap_coefficient(E_star_[a * ntypes_mat_ + b]);
+      const int ab = a * ntypes_mat_ + b;
+      E_star_[ab] = effective_modulus(E_[a], nu_[a], E_[b], nu_[b]);
+      overlap_coef_[ab] = limit_overlap_coefficient(E_star_[ab]) * limit_overlap_factor(limit_factor_[ab]);
     }
+  if (comm->me == 0 && (pressure_ != PRESSURE_MEAN || force_ != FORCE_NORMAL || size_law_ != SIZE_PRINTED ||
+                        scatter_ != SCATTER_NORMAL)) {
+    char line[512];
+    snprintf(line, sizeof(line),
+             "fix crush/particle: criterion reading: pressure %s, force %s, size_law %s, scatter %s "
+             "(f_min %g, Weibull shape %g); F_lim of grain-grain contacts (type 1) x %g of the printed reading\n",
+             pressure_ == PRESSURE_PEAK ? "peak" : "mean", force_ == FORCE_SLIDING ? "sliding" : "normal",
+             size_law_ == SIZE_NO_N ? "no_N" : "printed",
+             scatter_ == SCATTER_WEIBULL ? "weibull" : (scatter_ == SCATTER_TRUNCATED ? "truncated" : "normal"),
+             f_min_, weibull_k_, limit_factor_[0]);
+    if (screen) fputs(line, screen);
+    if (logfile) fputs(line, logfile);
+  }
 
   walls_.clear();
   for (int k = 0; k < modify->nfix; k++)
@@ -284,8 +327,18 @@ bool FixCrushParticle::eligible(int i) const
 void FixCrushParticle::assign_strength(int i)
 {
   const double d = 2.0 * atom->radius[i];
-  const double f = strength_factor(seed_, (uint64_t)atom->tag[i], var_);
-  crush_[i][0] = size_effect_strength(sigma_lim0_, f, d, scale_N_, d0_, m_);
+  const double f = strength_factor_law(scatter_, seed_, (uint64_t)atom->tag[i], var_, f_min_, weibull_k_);
+  crush_[i][0] = size_effect_strength(sigma_lim0_, f, d, size_law_scale(size_law_, scale_N_), d0_, m_);
+}
+
+double FixCrushParticle::F_lim(int i, double R_star, int ti, int tj) const
+{
+  return limit_force(crush_[i][0], R_star, E_star(ti, tj)) * limit_factor(ti, tj);
+}
+
+double FixCrushParticle::delta_lim(int i, double R_star, int ti, int tj) const
+{
+  return limit_overlap(crush_[i][0], R_star, E_star(ti, tj)) * limit_overlap_factor(limit_factor(ti, tj));
 }
 
 void FixCrushParticle::assign_missing_strengths()
@@ -441,7 +494,7 @@ void FixCrushParticle::check_timestep()
   // d_comm particle with a strength factor 3 standard deviations above 1.
   // Breakable particles are bounded by their own sigma_lim (they break there).
   const double p_unbreakable =
-      size_effect_strength(sigma_lim0_, 1.0 + 3.0 * var_, d_comm_, scale_N_, d0_, m_);
+      size_effect_strength(sigma_lim0_, 1.0 + 3.0 * var_, d_comm_, size_law_scale(size_law_, scale_N_), d0_, m_);
   double local[2] = {1e300, 1e300}, global[2];  // [0] T_R min, [1] r min ever
   StiffestContact grain = {0.0, 0.0, 0.0, 0.0, 0.0}, frag = grain;
   const int nlocal = atom->nlocal;
@@ -551,10 +604,10 @@ void FixCrushParticle::check_timestep()
    with the largest F_n / F_lim per particle (one break per step).
 ------------------------------------------------------------------------- */
 
-void FixCrushParticle::consider(int i, double delta, double R_star, double E_star_ij, int partner)
+void FixCrushParticle::consider(int i, double delta, double R_star, int ti, int tj, int partner)
 {
-  const double F_n = hertz_normal_force(delta, R_star, E_star_ij);
-  const double F_lim = limit_force(crush_[i][0], R_star, E_star_ij);
+  const double F_n = hertz_normal_force(delta, R_star, E_star(ti, tj));
+  const double F_lim = this->F_lim(i, R_star, ti, tj);
   const double ratio = F_n / F_lim;
   if ((int)candidate_slot_.size() < atom->nlocal) candidate_slot_.resize(atom->nmax, -1);
   int &slot = candidate_slot_[i];
@@ -677,9 +730,8 @@ void FixCrushParticle::pairs_scan(int i, double D)
     if (!i_hit && !j_hit) continue;
     const double delta = radsum - sqrt(rsq);
     const double R_star = effective_radius(ri, radius[j]);
-    const double Es = E_star(type[i], type[j]);
-    if (i_hit) consider(i, delta, R_star, Es, PARTNER_PARTICLE);
-    if (j_hit) consider(j, delta, R_star, Es, PARTNER_PARTICLE);
+    if (i_hit) consider(i, delta, R_star, type[i], type[j], PARTNER_PARTICLE);
+    if (j_hit) consider(j, delta, R_star, type[j], type[i], PARTNER_PARTICLE);
   }
   if (margin_skip_) {
     // positions moved since x0 by at most sqrt(d2_i) (i) and D (any j); the
@@ -710,13 +762,12 @@ void FixCrushParticle::find_candidates_walls()
   for_each_wall_neighbour(
       walls_, atom, [&](int i) { return eligible(i) && (full || !wall_skip(i)); },
       [&](int i, int, int, int, int wtype, double deltan) {
-        const double Es = E_star(type[i], wtype);
-        const double lim = limit_overlap(crush_[i][0], radius[i], Es);
+        const double lim = delta_lim(i, radius[i], type[i], wtype);
         // particles near the wall but not touching it count with their gap
         if (skip_on) wall_margin_update(i, lim + deltan);
         // contacts at shared mesh edges are seen once per triangle with the
         // same overlap: harmless for a maximum
-        if (deltan < 0.0 && -deltan >= lim) consider(i, -deltan, radius[i], Es, PARTNER_WALL);
+        if (deltan < 0.0 && -deltan >= lim) consider(i, -deltan, radius[i], type[i], wtype, PARTNER_WALL);
       });
 }
 
@@ -866,6 +917,53 @@ void FixCrushParticle::pre_exchange()
 }
 
 /* ----------------------------------------------------------------------
+   Utilisation of every owned particle (compute crush/atom): the largest
+   F_n / F_lim over its particle and wall contacts in the present positions,
+   with the criterion reading of the fix (1 = at its limit). Particles that
+   cannot break (below d_comm, outside the group) and particles without a
+   contact get 0. Every contact is evaluated (no margin skip): this costs a
+   full scan, and runs only when an output asks for it.
+------------------------------------------------------------------------- */
+
+void FixCrushParticle::utilisation(std::vector<double> *out)
+{
+  const int nlocal = atom->nlocal;
+  std::vector<double> &u = *out;
+  u.assign(nlocal, 0.0);
+  double **x = atom->x;
+  const double *radius = atom->radius;
+  const int *type = atom->type;
+  NeighList *list = pair_ ? pair_->list : NULL;
+  if (list) {
+    for (int ii = 0; ii < list->inum; ii++) {
+      const int i = list->ilist[ii];
+      const bool i_on = eligible(i);
+      const int *jlist = list->firstneigh[i];
+      for (int jj = 0; jj < list->numneigh[i]; jj++) {
+        const int j = jlist[jj] & NEIGHMASK;
+        const bool j_on = j < nlocal && eligible(j);
+        if (!i_on && !j_on) continue;
+        const double dx = x[i][0] - x[j][0], dy = x[i][1] - x[j][1], dz = x[i][2] - x[j][2];
+        const double radsum = radius[i] + radius[j];
+        const double rsq = dx * dx + dy * dy + dz * dz;
+        if (rsq >= radsum * radsum) continue;
+        const double R_star = effective_radius(radius[i], radius[j]);
+        const double F_n = hertz_normal_force(radsum - sqrt(rsq), R_star, E_star(type[i], type[j]));
+        if (i_on) u[i] = std::max(u[i], F_n / F_lim(i, R_star, type[i], type[j]));
+        if (j_on) u[j] = std::max(u[j], F_n / F_lim(j, R_star, type[j], type[i]));
+      }
+    }
+  }
+  for_each_wall_neighbour(
+      walls_, atom, [&](int i) { return eligible(i); },
+      [&](int i, int, int, int, int wtype, double deltan) {
+        if (!(deltan < 0.0)) return;
+        const double F_n = hertz_normal_force(-deltan, radius[i], E_star(type[i], wtype));
+        u[i] = std::max(u[i], F_n / F_lim(i, radius[i], type[i], wtype));
+      });
+}
+
+/* ----------------------------------------------------------------------
    Replace every candidate by its fragments. New tags are assigned in the
    order of the parents' tags over all ranks, so tags, strengths and
    orientations do not depend on the number of ranks.
@@ -978,6 +1076,17 @@ void FixCrushParticle::break_particles()
     apollonian_fragments(r, frag_r, frag_off);
     event_rotation(seed_, (uint64_t)tag_i, R);
     const double m_parent = true_mass(i);
+    // fragments take the parent's velocity, times the density-scaling factor
+    // that keeps their momentum that of their true mass (crush_density_scale_kernel.h)
+    double sum_true = 0.0, sum_scaled = 0.0;
+    for (int f = 0; f < kFragments; f++) {
+      if (2.0 * frag_r[f] < d_frag_min_) continue;
+      const double mt = sphere_mass(frag_r[f], rho);
+      sum_true += mt;
+      sum_scaled += mt * density_scale_factor(2.0 * frag_r[f], d_scale_ref_);
+    }
+    const double v_factor = fragment_velocity_factor(sum_true, sum_scaled);
+    vp[0] *= v_factor; vp[1] *= v_factor; vp[2] *= v_factor;
     double mass_kept = 0.0;
     for (int f = 0; f < kFragments; f++) {
       if (2.0 * frag_r[f] < d_frag_min_) continue;
@@ -1146,10 +1255,19 @@ void FixCrushParticle::energy_of_breaks(const std::vector<int> &parents,
     if (atom->omega_flag)
       KEb += kinetic_energy(0.4 * atom->rmass[i] * atom->radius[i] * atom->radius[i], atom->omega[i]);
     // fragments take the parent's velocity and no spin
+    // (times the density-scaling velocity factor, as break_particles does)
     const int nf = energy_->fragments(atom->x[i], atom->radius[i], atom->tag[i], rf, xf);
+    double sum_true = 0.0, sum_scaled = 0.0;
+    for (int f = 0; f < nf; f++) {
+      const double mt = sphere_mass(rf[f], atom->density[i]);
+      sum_true += mt;
+      sum_scaled += mt * density_scale_factor(2.0 * rf[f], d_scale_ref_);
+    }
+    const double vf = fragment_velocity_factor(sum_true, sum_scaled);
+    const double vfrag[3] = {vf * v[0], vf * v[1], vf * v[2]};
     double KEf = 0.0;
     for (int f = 0; f < nf; f++)
-      KEf += kinetic_energy(sphere_mass(rf[f], atom->density[i]) * density_scale_factor(2.0 * rf[f], d_scale_ref_), v);
+      KEf += kinetic_energy(sphere_mass(rf[f], atom->density[i]) * density_scale_factor(2.0 * rf[f], d_scale_ref_), vfrag);
     const double vals[kEventEnergy] = {Eb[k], Ea[k], KEb, KEf};
     const int pos = (int)(std::lower_bound(order.begin(), order.end(), std::make_pair(atom->tag[i], -1)) - order.begin());
     for (int q = 0; q < kEventEnergy; q++) {

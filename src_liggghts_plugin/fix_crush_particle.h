@@ -60,6 +60,18 @@ class FixCrushParticle : public Fix {
 
   enum Partner { PARTNER_PARTICLE = 0, PARTNER_WALL = 1 };
 
+  // Per-particle outputs, read by compute crush/atom (owned particles):
+  // strength sigma_lim (Pa), generation (0 initial grain, 1 fragment, ...),
+  // mass without density scaling (kg), and the utilisation: the largest
+  // F_n / F_lim over the particle's contacts in the present positions (0
+  // without contact, and for particles that cannot break).
+  double strength(int i) const { return crush_[i][0]; }
+  double generation(int i) const { return crush_[i][1]; }
+  // mass of particle i without density scaling: what the mass balance,
+  // fines and Br count (rmass itself when scaling is off)
+  double true_mass(int i) const;
+  void utilisation(std::vector<double> *u);
+
  private:
   // model parameters (SPEC section 3 names)
   double sigma_lim0_, m_, d0_, scale_N_, var_, d_comm_;
@@ -68,9 +80,11 @@ class FixCrushParticle : public Fix {
   bool fines_fractal_;            // fines_grading fractal (true) or d_min
   double d_frag_min_;             // fragments finer than this go to fines
   double d_scale_ref_;            // density_scale: finer particles get its Rayleigh time (0: off)
-  // mass of particle i without density scaling: what the mass balance,
-  // fines and Br count (rmass itself when scaling is off)
-  double true_mass(int i) const;
+  // criterion readings (crush_criterion_kernel.h) and scatter law
+  // (crush_strength_kernel.h); the defaults are the printed model
+  int pressure_, force_, size_law_, scatter_;
+  double f_min_;                  // scatter truncated: bound of f
+  double weibull_k_;              // scatter weibull: shape for var
   bool dt_check_error_;
   double dt_frac_;
   double dt_omega_;  // limit on omega_max dt of the stiffest contact (check_timestep)
@@ -86,8 +100,14 @@ class FixCrushParticle : public Fix {
   std::vector<double> E_star_;
   std::vector<double> E_, nu_;
   double E_star(int ti, int tj) const { return E_star_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
-  std::vector<double> overlap_coef_;  // (3 pi / (4 E*))^2 per type pair
+  // (3 pi / (4 E*))^2 k^(2/3) per type pair, k the reading's factor on F_lim
+  std::vector<double> overlap_coef_;
   double overlap_coef(int ti, int tj) const { return overlap_coef_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
+  std::vector<double> limit_factor_;  // k per type pair (1: printed reading)
+  double limit_factor(int ti, int tj) const { return limit_factor_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
+  // F_lim and the limit overlap of particle i on a contact of types (ti, tj)
+  double F_lim(int i, double R_star, int ti, int tj) const;
+  double delta_lim(int i, double R_star, int ti, int tj) const;
 
   class Pair *pair_;
 
@@ -175,7 +195,7 @@ class FixCrushParticle : public Fix {
   void parse_args(int narg, char **arg);
   void assign_strength(int i);
   void assign_missing_strengths();
-  void consider(int i, double delta, double R_star, double E_star_ij, int partner);
+  void consider(int i, double delta, double R_star, int ti, int tj, int partner);
   void clear_candidates();
   void detect(bool blocking);
   void finish_count();

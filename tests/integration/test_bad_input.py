@@ -149,6 +149,18 @@ CASES = (
     + optional_cases(CRUSH, "d_frag_min", ["inf"])
     + optional_cases(CRUSH, "dt_frac", ["nan"])
     + optional_cases(CRUSH, "density_scale", ["-1e-3", "inf", "fine"])
+    # criterion readings: a word outside the list, f_min outside [0, 1)
+    + [case(CRUSH, "pressure_max", args_of(CRUSH, extra="pressure max"),
+            ["keyword 'pressure' must be 'mean' or 'peak', got 'max'"]),
+       case(CRUSH, "force_total", args_of(CRUSH, extra="force total"),
+            ["keyword 'force' must be 'normal' or 'sliding', got 'total'"]),
+       case(CRUSH, "scatter_lognormal", args_of(CRUSH, extra="scatter lognormal"),
+            ["keyword 'scatter' must be 'normal', 'truncated' or 'weibull', got 'lognormal'"]),
+       case(CRUSH, "f_min_without_truncated", args_of(CRUSH, extra="f_min 0.5"),
+            ["keyword 'f_min' belongs to 'scatter truncated'"]),
+       case(CRUSH, "truncated_without_f_min", args_of(CRUSH, extra="scatter truncated"),
+            ["'scatter truncated' needs keyword 'f_min'"])]
+    + optional_cases(CRUSH, "f_min", ["1.5", "-0.1", "nan"])
     + [case(CRUSH, "missing_value", args_of(CRUSH, extra="dt_frac"), missing_value("dt_frac")),
        case(CRUSH, "unknown", args_of(CRUSH, extra="colour red"), unknown("colour")),
        case(CRUSH, "repeated", args_of(CRUSH, extra="m 12"), repeated("m"))]
