@@ -44,6 +44,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost.dump import read_crush_log  # noqa: E402
+from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
@@ -137,6 +138,8 @@ def run_deck(a, out, tip_z0, progress=None, part=0, restart_file=None):
         v["d_scale_ref"] = a.d_scale_ref
     if a.d_comm_ratio != 0.55:
         v["d_comm_ratio"] = a.d_comm_ratio
+    if a.crush_reading != CRUSH_READING_PRINTED:
+        v["crush_reading"] = a.crush_reading
     if a.prep_only:
         v["jacking_block"] = "none"
     if a.snapshots == "yes":
@@ -474,6 +477,10 @@ def main(argv=None):
     p.add_argument("--d-comm-ratio", type=float, default=0.55,
                    help="comminution limit d_comm / d50 (SPEC section 3: 0.55); grains at or "
                    "below d_comm do not break")
+    p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
+                   help="keywords of the criterion reading given to fix crush/particle "
+                   "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "
+                   "scatter truncated f_min 0.5'; default: the printed model")
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None)
     p.add_argument("--snapshots", default="yes", choices=["yes", "no"],

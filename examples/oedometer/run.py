@@ -21,6 +21,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import oedometer  # noqa: E402
+from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
@@ -57,6 +58,8 @@ def run_deck(args, out, R, H):
         v["d_scale_ref"] = args.d_scale_ref
     if args.d_comm_ratio != 0.55:
         v["d_comm_ratio"] = args.d_comm_ratio
+    if args.crush_reading != CRUSH_READING_PRINTED:
+        v["crush_reading"] = args.crush_reading
     return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np,
                         binary=args.liggghts, name="oedometer")
 
@@ -89,6 +92,7 @@ def postprocess(args, out, wall, n0):
     load = stress["phase"] == 0
     summary = {
         "grains": args.grains, "tangential_model": args.tangential_model,
+        "crush_reading": args.crush_reading,
         "N": args.N, "n_particles_initial": int(n0),
         "n_particles_final": int(stress["Atoms"][-1]),
         "porosity_start_of_loading": float(stress["e_void"][0] / (1 + stress["e_void"][0])),
@@ -104,6 +108,7 @@ def postprocess(args, out, wall, n0):
         "e_core_start": float(stress["e_core"][0]),
         "e_core_at_10MPa": float(oedometer.loading_state_at(stress, 10e6, key="e_core")[0]),
         "e_core_at_30MPa": float(oedometer.loading_state_at(stress, 30e6, key="e_core")[0]),
+        "Br_at_10MPa": float(oedometer.loading_state_at(stress, 10e6, key="Br")[0]),
         "Br_at_30MPa": float(oedometer.loading_state_at(stress, 30e6, key="Br")[0]),
         # crushing begins: sigma_v where 1 % of the initial grains have broken
         # (and that of the first break), crushpost.oedometer.crushing_onset
@@ -159,6 +164,10 @@ def main(argv=None):
                    "density_scale); 0 = off")
     p.add_argument("--d-comm-ratio", type=float, default=0.55,
                    help="comminution limit d_comm / d50 (SPEC section 3: 0.55)")
+    p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
+                   help="keywords of the criterion reading given to fix crush/particle "
+                   "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "
+                   "scatter truncated f_min 0.5'; default: the printed model")
     p.add_argument("--seed", type=int, default=15485863)
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")

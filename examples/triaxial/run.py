@@ -30,6 +30,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import triaxial  # noqa: E402
+from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
 from crushpost.prep import element_prep_summary  # noqa: E402
@@ -125,7 +126,7 @@ def liggghts_variables(args, W, H, dt, dt_prep):
             "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
             "D_loc_shear": args.D_loc, "rotation": int(args.rotation),
             "tangential_model": args.tangential_model,
-            "incremental_shear": int(args.incremental_shear)}
+            "incremental_shear": int(args.incremental_shear), "crush_reading": args.crush_reading}
 
 
 def run_deck(args, out, W, H, dt, dt_prep):
@@ -178,6 +179,10 @@ def parse_args(argv=None):
     p.add_argument("--out", default=os.path.join(REPO, "results", "triaxial"))
     p.add_argument("--np", type=int, default=2, help="MPI ranks")
     p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
+                   help="keywords of the criterion reading given to fix crush/particle "
+                   "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "
+                   "scatter truncated f_min 0.5'; default: the printed model")
     p.add_argument("--cell", default="periodic", choices=["periodic", "walls"],
                    help="specimen between six rigid frictionless plates (in.triaxial), or a "
                    "periodic cell whose stresses are the grains' own (in.triaxial_periodic)")

@@ -51,6 +51,12 @@ __all__ = [
 
 #: Fractal dimension of the limit grading used in the calibration (SPEC 2).
 W_FRACTAL = 2.6
+
+#: The printed criterion reading of fix crush/particle (docs/fix_crush_particle.md
+#: "Criterion readings"): the default of inputs/crushable_ne34.in's crush_reading
+#: (tests/python/test_true_mass.py checks the two agree).
+CRUSH_READING_PRINTED = "pressure mean force normal size_law printed scatter normal"
+
 #: Log-uniform bins of [d_min, d_max] for the bound (as the fix's kBrBins).
 N_BINS = 128
 #: Apollonian fragment radii over the parent radius (SPEC 2): 6 large, 8 small.

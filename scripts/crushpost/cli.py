@@ -7,9 +7,9 @@ import sys
 
 import numpy as np
 
-from .breakage import W_FRACTAL, break_fines, breakage, sphere_mass
+from .breakage import W_FRACTAL, break_fines, breakage
 from .chamber import hole_gap, hole_radius, smallest_fragment_diameter
-from .dump import read_crush_log, read_dump
+from .dump import read_crush_log, read_dump, true_mass
 from .inputfile import InputFileError, read_checked
 from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
@@ -56,8 +56,8 @@ def _grading(snap, density):
     else:
         raise KeyError("dump at step %d has neither a radius nor a diameter column"
                        % snap["timestep"])
-    m = atoms["mass"] if "mass" in atoms else sphere_mass(d, density)
-    return d, m
+    # true mass: never the dump's `mass`, which density scaling raises
+    return d, true_mass(atoms, density)
 
 
 def _cmd_br(args):
@@ -244,7 +244,9 @@ def build_parser():
     br.add_argument("--w", type=float, default=W_FRACTAL,
                     help="fractal dimension of the limit grading (default 2.6)")
     br.add_argument("--density", type=float, default=2600.0,
-                    help="particle density [kg/m^3] when the dump has no mass column, "
+                    help="particle density [kg/m^3] for the grains' true mass when the dump "
+                    "has no true-mass column (v_mass_true or c_crush_atom[3]; the mass column "
+                    "is not used: density scaling raises it), "
                     "and of the broken grains of --events")
     br.add_argument("--events", help="event log of fix crush/particle (keyword 'events'): "
                     "the fines of each break get the size range of their parent")

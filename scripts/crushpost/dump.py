@@ -79,6 +79,34 @@ def read_dump(path):
     return list(iter_dump(path))
 
 
+#: Per-atom columns that hold the true mass (without density scaling): the
+#: decks' atom variable (inputs/crushable_ne34.in, unbreakable.in) and
+#: column 3 of compute crush/atom, as a dump names them.
+TRUE_MASS_COLUMNS = ("v_mass_true", "c_crush_atom[3]", "mass_true")
+
+
+def true_mass(atoms, density, path="dump"):
+    """Mass of every particle without density scaling, (N,) kg.
+
+    ``atoms``: the per-atom columns of a dump snapshot (dict of arrays). A
+    true-mass column (TRUE_MASS_COLUMNS) is used when present; otherwise the
+    sphere mass ``density pi d^3 / 6`` from the radius (or diameter). The
+    dump's ``mass`` column is never used: ``fix crush/particle
+    density_scale`` raises the mass of fine particles, so it is not the
+    grains' mass (docs/fix_crush_particle.md, "Density scaling")."""
+    for name in TRUE_MASS_COLUMNS:
+        if name in atoms:
+            return np.asarray(atoms[name], dtype=float)
+    if "radius" in atoms:
+        d = 2.0 * np.asarray(atoms["radius"], dtype=float)
+    elif "diameter" in atoms:
+        d = np.asarray(atoms["diameter"], dtype=float)
+    else:
+        raise KeyError("%s: no true-mass column (%s) and neither a radius nor a diameter column"
+                       % (path, ", ".join(TRUE_MASS_COLUMNS)))
+    return density * np.pi / 6.0 * d ** 3
+
+
 #: Columns of the crush event log written by the breakage fix, in file order.
 CRUSH_LOG_COLUMNS = ("step", "time", "parent_tag", "parent_diameter", "x", "y", "z",
                      "F_n", "F_lim", "partner", "generation")

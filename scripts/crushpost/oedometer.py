@@ -15,7 +15,7 @@ import os
 import numpy as np
 
 from .breakage import break_fines, psd_curve
-from .dump import read_dump
+from .dump import read_dump, true_mass
 from .thermo import read_log
 
 PATH_COLUMNS = ("Step", "Time", "Atoms", "z_top", "sv", "e_void", "e_core", "n_break", "fines", "Br")
@@ -112,7 +112,7 @@ def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None, events=None,
         for snap in read_dump(f):
             a = snap["atoms"]
             d = 2.0 * a["radius"]
-            m = a["mass"] if "mass" in a else density * np.pi / 6.0 * d ** 3
+            m = true_mass(a, density, f)    # never the scaled `mass`
             fines = fines_by_step(snap["timestep"]) if fines_by_step else 0.0
             broken = None
             if events is not None:
