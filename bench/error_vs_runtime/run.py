@@ -199,7 +199,9 @@ def driver_args(p, out, np_, example, tree=REPO):
             "--np", str(np_), "--grains", p["grains"], "--N", repr(s["N"]),
             "--dt", repr(setting_dt(s)), "--d-scale-ref", repr(s["d_scale_ref_d50"] * D50_1 * s["N"]),
             "--d-comm-ratio", repr(s["d_comm_ratio"]), "--packing-seed", str(s["packing_seed"]),
-            "--n-target", repr(s["n_target"])]
+            "--n-target", repr(s["n_target"])] + (
+                # a criterion reading (bench/criterion_readings): the printed one otherwise
+                ["--crush-reading", s["crush_reading"]] if s.get("crush_reading") else [])
 
 
 def chamber_args(p, out, np_, tree=REPO):

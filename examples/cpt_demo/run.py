@@ -48,7 +48,7 @@ from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
-from crushpost.pile import PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
+from crushpost.pile import PHASE_PUSH, break_zones, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
 from crushpost.prep import (PAPER_PREPARED, prep_chunk_for, prep_cost, prep_time_step,  # noqa: E402
                             read_prep_report, snapshot_prep_summary)
 from crushpost.progress import ChamberProgress, run_watched  # noqa: E402
@@ -298,6 +298,7 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
 
     plots = ["qc_depth.png"]
     n_inside = 0
+    zones = None
     ev_path = os.path.join(out, "breakage_events.txt")
     events = read_crush_log(ev_path) if os.path.exists(ev_path) else None
     if events is not None and len(events["step"]):
@@ -306,6 +307,10 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         hh, r = relative_to_tip(events["x"], events["y"], events["z"], z_tip, a.R_pile)
         inside = inside_pile(hh, r)
         n_inside = int(inside.sum())
+        # where the events are: switch-on (first step of jacking), entry,
+        # the crushing zone at the cone, the shaft, beyond 5R below the tip
+        first_step = int(blocks[0]["Step"][0]) + 1 if "Step" in blocks[0] else None
+        zones = break_zones(hh, r, (z_ref - z_tip) / a.R_pile, events["step"] == first_step)
         ev_depth = (z_ref - z_tip) * 1e3
         np.savetxt(os.path.join(out, "breakage_map.txt"),
                    np.column_stack([events["step"], hh, r, ev_depth, inside]),
@@ -344,8 +349,10 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         # a run in parts may change its rank count between them
         "core_s": wall * a.np if core_s is None else core_s, "mode": a.mode, "grains": a.grains, "N": a.N,
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
-        "plots": plots,
+        "plots": plots, "crush_reading": a.crush_reading,
     }
+    if zones is not None:
+        summary["break_zones"] = zones
     snaps = list_snapshots(os.path.join(out, "snapshots", "jack"))
     if snaps:
         summary["snapshots"] = [os.path.relpath(path, out) for _, path in snaps]

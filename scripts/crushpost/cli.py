@@ -370,7 +370,33 @@ def build_parser():
                     help="simulated sector [deg] (default summary.json's, else from the grains)")
     rp.add_argument("--quiet", action="store_true", help="print errors only")
     rp.set_defaults(func=_cmd_report)
+
+    cp = sub.add_parser("compare", help="two chamber runs side by side: the q_c ratio A/B and "
+                        "the difference in crushing (events by zone, Br over the penetrated "
+                        "layers), e.g. the demo with --grains unbreakable (A) and crushable (B)")
+    cp.add_argument("run_a", help="run folder A (summary.json; report/fields.h5 if reported)")
+    cp.add_argument("run_b", help="run folder B")
+    cp.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    cp.set_defaults(func=_cmd_compare)
     return ap
+
+
+def _cmd_compare(args):
+    from .compare import compare, format_table, read_run
+
+    try:
+        run_a, run_b = read_run(args.run_a), read_run(args.run_b)
+    except InputFileError as exc:
+        print("crushpost compare: error: %s" % exc, file=sys.stderr)
+        return 1
+    rows, qc_ratio = compare(run_a, run_b)
+    if args.json:
+        print(json.dumps({"run_a": args.run_a, "run_b": args.run_b, "qc_ratio": qc_ratio,
+                          "rows": {r[0]: {"a": r[1], "b": r[2], "ratio": r[3], "diff": r[4]}
+                                   for r in rows}}, indent=2))
+    else:
+        print(format_table(rows, args.run_a, args.run_b))
+    return 0
 
 
 def _cmd_merge_parts(args):

@@ -22,7 +22,7 @@ from .meshes import PILE_APEX_ANGLE_DEG
 
 __all__ = ["JACK_COLUMNS", "PHASE_PUSH", "PHASE_UNLOAD", "PHASE_PAUSE", "PHASE_DONE",
            "read_jack", "tip_z", "tip_z_at", "relative_to_tip", "pile_penetration",
-           "inside_pile"]
+           "inside_pile", "break_zones", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN"]
 
 #: Columns of the fix jack/pile time series, in file order.
 JACK_COLUMNS = ("step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase", "cycle",
@@ -107,3 +107,56 @@ def pile_penetration(h_over_R, r_over_R, apex_angle_deg=PILE_APEX_ANGLE_DEG):
 def inside_pile(h_over_R, r_over_R, tol=0.0, apex_angle_deg=PILE_APEX_ANGLE_DEG):
     """True where a point lies inside the pile by more than ``tol`` (in R)."""
     return pile_penetration(h_over_R, r_over_R, apex_angle_deg) > tol
+
+
+#: The crushing zone of the paper's chamber (issue "Crushing where the paper
+#: found it"): within ZONE_R_MAX pile radii of the axis, from ZONE_H_BELOW
+#: radii below the apex up to the cone's shoulder (h = R / tan(30 deg) =
+#: 1.73 R), counted once the tip is deeper than ZONE_DEPTH_MIN radii.
+ZONE_R_MAX = 3.0
+ZONE_H_BELOW = 5.0
+ZONE_DEPTH_MIN = 2.0
+
+
+def break_zones(h_over_R, r_over_R, tip_depth_over_R, switch_on,
+                apex_angle_deg=PILE_APEX_ANGLE_DEG):
+    """Breakage events counted by where they happen relative to the tip.
+
+    Inputs, one per event: ``h_over_R``, ``r_over_R`` (the parent's centre
+    relative to the apex at the event, :func:`relative_to_tip`),
+    ``tip_depth_over_R`` (the apex's depth below the sand surface at the event,
+    in R) and ``switch_on`` (bool: the event is at the first step of jacking,
+    when crushing is switched on: the prepared state broke the grain, not the
+    pile). Zones, in R (shoulder = 1 / tan(apex / 2), 1.73 for 60 degrees):
+
+    - ``switch_on``: at the first step;
+    - ``entry``: later, with the tip at most ZONE_DEPTH_MIN deep;
+    - penetration (the rest), split into
+      ``in_zone`` (r < ZONE_R_MAX and -ZONE_H_BELOW < h < shoulder),
+      ``along_shaft`` (h >= shoulder and r < ZONE_R_MAX),
+      ``beyond_5R_below`` (h <= -ZONE_H_BELOW) and
+      ``elsewhere`` (r >= ZONE_R_MAX above that).
+
+    Returns a dict of counts (int) with these keys plus ``n_events`` and
+    ``penetration``, and ``fraction_in_zone`` (in_zone / penetration, NaN
+    without penetration events)."""
+    h = np.asarray(h_over_R, dtype=float)
+    r = np.asarray(r_over_R, dtype=float)
+    depth = np.asarray(tip_depth_over_R, dtype=float)
+    first = np.asarray(switch_on, dtype=bool)
+    if not (h.shape == r.shape == depth.shape == first.shape):
+        raise ValueError("break_zones: h, r, tip depth and switch_on need one value per event, "
+                         "got shapes %s %s %s %s" % (h.shape, r.shape, depth.shape, first.shape))
+    shoulder = 1.0 / math.tan(math.radians(0.5 * apex_angle_deg))
+    entry = ~first & (depth <= ZONE_DEPTH_MIN)
+    pen = ~first & ~entry
+    below = pen & (h <= -ZONE_H_BELOW)
+    near = r < ZONE_R_MAX
+    in_zone = pen & near & (h > -ZONE_H_BELOW) & (h < shoulder)
+    shaft = pen & near & (h >= shoulder)
+    elsewhere = pen & ~below & ~in_zone & ~shaft
+    n_pen = int(pen.sum())
+    return {"n_events": int(h.size), "switch_on": int(first.sum()), "entry": int(entry.sum()),
+            "penetration": n_pen, "in_zone": int(in_zone.sum()), "along_shaft": int(shaft.sum()),
+            "beyond_5R_below": int(below.sum()), "elsewhere": int(elsewhere.sum()),
+            "fraction_in_zone": float(in_zone.sum()) / n_pen if n_pen else float("nan")}

@@ -39,7 +39,8 @@ from .dump import read_crush_log
 from .inputfile import InputFileError, read_checked, reason
 from .fields import (binned_mean, cell_breakage, event_density, interp_columns, interp_radius,
                      qc_reference, qc_trend_band, radial_increments, stress_quantities)
-from .pile import PHASE_PAUSE, PHASE_PUSH, inside_pile, read_jack, relative_to_tip, tip_z_at
+from .pile import (PHASE_PAUSE, PHASE_PUSH, ZONE_DEPTH_MIN, ZONE_H_BELOW, ZONE_R_MAX, break_zones,
+                   inside_pile, read_jack, relative_to_tip, tip_z_at)
 from .prep import ring_edges
 from .rings import ring_fields, sphere_cell_volumes
 from .rotation import axis_rotation, unwrap_axis
@@ -68,6 +69,10 @@ HEADLINE_NAMES = {
     "qc_last3_bands_MPa": "MPa",
     "final_depth_mm": "mm", "n_break_events": "-", "n_break_events_first_step": "-",
     "Br_sample": "-",
+    "events_switch_on": "-", "events_entry": "-", "events_penetration": "-",
+    "events_in_zone": "-", "events_along_shaft": "-", "events_beyond_5R_below": "-",
+    "events_elsewhere": "-", "fraction_in_zone": "-",
+    "Br_penetrated_1_2R": "-", "Br_penetrated_2_3R": "-",
     "peak_q_over_p": "-", "max_rotation_deg": "deg", "mass_balance_rel_error": "-",
     "lost_atoms": "-", "porosity_initial": "-", "sigma_r_initial_kPa": "kPa",
     "sigma_theta_initial_kPa": "kPa", "sigma_z_initial_kPa": "kPa",
@@ -539,6 +544,7 @@ def _log_numbers(rep, ctx):
             # loaded past their limit by the prepared state and break at the
             # first step, wherever they are, not because of the pile
             start = int(first["Step"][0])
+            ctx["jack_first_step"] = start + 1
             rep.head["n_break_events_first_step"] = int(np.count_nonzero(events["step"] == start + 1))
             rep.head_notes["n_break_events_first_step"] = (
                 "break events at the first step of jacking (step %d), when crushing is switched "
@@ -671,7 +677,7 @@ def _states(rep, ctx):
             rr = np.hypot(x[:, 0], x[:, 1]) / R
             cell = _band_cell(rr, x[:, 2], b_edges, z_edges)
             if first is None:
-                first = {"cell": cell, "d": 2 * rad, "ids": ids, "step": info["step"]}
+                first = {"cell": cell, "d": 2 * rad, "ids": ids, "step": info["step"], "z": x[:, 2]}
             fines = None
             if events is not None:
                 # the breaks since the first state (earlier ones are in its grains)
@@ -691,7 +697,19 @@ def _states(rep, ctx):
             evb = None if ev_cell is None else np.where(ev_cell >= 0, ev_cell // n_z, -1)
             br_b, _, _ = cell_breakage(cb, 2 * rad, cb0, first["d"], b_edges.size - 1, d_min,
                                        d_max, evb, pd, density=opt.density)
-            band_rows.append((br.reshape(-1, n_z), br_b))
+            # whole bands over the layers the tip has passed (z_tip < z < z_ref):
+            # the penetrated height, not the untouched sand below the tip
+            br_p = np.full(b_edges.size - 1, np.nan)
+            z_tip = info.get("z_tip")
+            if z_tip is not None and z_tip < ctx["z_ref"]:
+                def passed(zz):
+                    return (zz > z_tip) & (zz < ctx["z_ref"])
+                cp = np.where(passed(x[:, 2]), cb, -1)
+                cp0 = np.where(passed(first["z"]), cb0, -1)
+                evp = None if evb is None else np.where(passed(events["z"][ev_sel]), evb, -1)
+                br_p, _, _ = cell_breakage(cp, 2 * rad, cp0, first["d"], b_edges.size - 1, d_min,
+                                           d_max, evp, pd, density=opt.density)
+            band_rows.append((br.reshape(-1, n_z), br_b, br_p))
             ctx["band_edges"] = b_edges
             m = sphere_mass(2 * rad, opt.density)
             psd_rows.append(psd_curve(2 * rad, m, 0.0, sizes, fines=fines, d_min=d_min))
@@ -721,8 +739,18 @@ def _states(rep, ctx):
     ctx["r_mid"], ctx["z_mid"] = r_mid, z_mid
     _store_states(rep, ctx)
     if band_rows:
-        ctx["Br_cells"] = np.array([b for b, _ in band_rows])
-        ctx["Br_bands"] = np.array([b for _, b in band_rows])
+        ctx["Br_cells"] = np.array([b for b, _, _ in band_rows])
+        ctx["Br_bands"] = np.array([b for _, b, _ in band_rows])
+        ctx["Br_bands_penetrated"] = np.array([b for _, _, b in band_rows])
+        last_pen = ctx["Br_bands_penetrated"][-1]
+        b_edges = ctx["band_edges"]
+        for lo, key in ((1.0, "Br_penetrated_1_2R"), (2.0, "Br_penetrated_2_3R")):
+            k = np.flatnonzero(np.isclose(b_edges[:-1], lo) & np.isclose(b_edges[1:], lo + 1.0))
+            if k.size and np.isfinite(last_pen[k[0]]):
+                rep.head[key] = float(last_pen[k[0]])
+                rep.head_notes[key] = (
+                    "Br of the band %g < r/R < %g over the layers the tip has passed (between the "
+                    "tip and the sand surface) at the last snapshot" % (lo, lo + 1))
         ctx["psd"] = np.array(psd_rows)
     _fig_initial(rep, ctx)
     _fig_contours(rep, ctx)
@@ -1076,11 +1104,12 @@ def _fig_bands(rep, ctx):
     br = ctx["Br_cells"]                  # (n_state, n_band, n_z)
     brb = ctx["Br_bands"]                 # (n_state, n_band)
     rep.put("breakage/bands", band_edges_over_R=b_edges, z_edges=ctx["z_edges"], Br=br,
-            Br_band=brb)
+            Br_band=brb, Br_band_penetrated=ctx["Br_bands_penetrated"])
     rep.attrs("breakage/bands", definition=(
         "bounded Einav Br of the grains whose centre is in band x layer now, plus the fines of "
         "the breaks whose parent was in it (fractal), against the grains in it in the first "
-        "state; Br_band: the whole height"))
+        "state; Br_band: the whole height; Br_band_penetrated: the layers between the tip and "
+        "the sand surface (NaN for the prepared state)"))
     last = len(states) - 1
     z_tip = states[last].get("z_tip")
     bands = ["%.3g<r/R<%.3g" % (b_edges[i], b_edges[i + 1]) for i in range(b_edges.size - 1)]
@@ -1213,6 +1242,21 @@ def _breakage_map(rep, ctx):
     h_hi = math.ceil(float(hh.max()) * 2) / 2 + 0.5
     h_edges = np.arange(h_lo, h_hi + 1e-9, 0.25)
     dens, cnt = event_density(hh, rr, h_edges, r_edges, sector)
+    # events by zone (crushpost.pile.break_zones): switch-on, entry, the
+    # crushing zone at the cone, along the shaft, beyond 5R below the tip
+    first_step = ctx.get("jack_first_step")
+    zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / R,
+                        events["step"] == first_step if first_step is not None
+                        else np.zeros(hh.size, dtype=bool))
+    for k in ("switch_on", "entry", "penetration", "in_zone", "along_shaft", "beyond_5R_below",
+              "elsewhere"):
+        rep.head["events_" + k] = zones[k]
+    rep.head["fraction_in_zone"] = zones["fraction_in_zone"]
+    rep.head_notes["events_in_zone"] = (
+        "break events during penetration (after the first step, tip deeper than %gR) within "
+        "r < %gR and -%gR < h < 1.73R (the cone's shoulder); crushpost.pile.break_zones"
+        % (ZONE_DEPTH_MIN, ZONE_R_MAX, ZONE_H_BELOW))
+    rep.put("breakage/zones", **{k: np.asarray(v) for k, v in zones.items()})
     rep.put("breakage/events", step=events["step"], h_over_R=hh, r_over_R=rr,
             tip_depth=ctx["z_ref"] - z_tip, inside_pile=inside.astype(np.int8),
             parent_diameter=events["parent_diameter"], generation=events["generation"])

@@ -159,6 +159,13 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
             out["qc_last3_bands_MPa"] = float(head["qc_last3_bands_MPa"])
         if "n_break_events_first_step" in head:
             out["n_break_events_first_step"] = int(head["n_break_events_first_step"])
+        # events by zone and Br over the penetrated layers (crushpost.pile.break_zones)
+        for k in ("events_switch_on", "events_entry", "events_penetration", "events_in_zone",
+                  "events_along_shaft", "events_beyond_5R_below", "events_elsewhere",
+                  "fraction_in_zone", "Br_penetrated_1_2R", "Br_penetrated_2_3R"):
+            if k in head:
+                v = head[k]
+                out[k] = float(v) if k.startswith(("fraction", "Br")) else int(v)
         if "breakage/bands" in f:
             g = f["breakage/bands"]
             out["Br_band_1_2"] = band_value(g["band_edges_over_R"][()], g["Br_band"][()][-1], *band)
@@ -182,5 +189,6 @@ def oedometer_metrics(summary):
     width, docs/calibration.md) and of the whole cell, Br at 30 MPa and at
     the end. Keys a summary lacks (runs before e_core was written) are None."""
     return {k: summary.get(k) for k in ("e_core_at_10MPa", "e_core_at_30MPa", "e_at_10MPa",
-                                         "e_at_30MPa", "Br_at_30MPa", "Br_final",
-                                         "n_break_events", "porosity_start_of_loading")}
+                                         "e_at_30MPa", "Br_at_10MPa", "Br_at_30MPa", "Br_final",
+                                         "n_break_events", "porosity_start_of_loading",
+                                         "sigma_v_crush_onset_MPa", "sigma_v_first_break_MPa")}

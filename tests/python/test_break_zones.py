@@ -1,0 +1,48 @@
+"""crushpost.pile.break_zones on a synthetic event set with a known answer."""
+
+import math
+
+import numpy as np
+import pytest
+
+from crushpost.pile import break_zones
+
+SHOULDER = 1.0 / math.tan(math.radians(30.0))
+
+
+def test_each_event_lands_in_its_zone():
+    # (h/R, r/R, tip depth/R, switch_on) -> zone
+    events = [
+        (0.5, 1.2, 6.0, False, "in_zone"),          # beside the cone
+        (-4.9, 0.2, 6.0, False, "in_zone"),         # deep below the tip, inside the zone
+        (SHOULDER - 1e-9, 2.99, 6.0, False, "in_zone"),
+        (SHOULDER, 1.1, 6.0, False, "along_shaft"),  # at the shoulder: shaft
+        (4.0, 2.5, 6.0, False, "along_shaft"),
+        (-5.0, 0.5, 6.0, False, "beyond_5R_below"),  # on the limit: beyond
+        (-9.0, 4.0, 6.0, False, "beyond_5R_below"),
+        (0.0, 3.0, 6.0, False, "elsewhere"),         # r = 3R: outside
+        (5.0, 6.0, 6.0, False, "elsewhere"),
+        (0.5, 1.2, 2.0, False, "entry"),             # tip at 2R: not yet penetrating
+        (-8.0, 5.0, 0.0, True, "switch_on"),         # first step, anywhere
+        (0.5, 1.2, 6.0, True, "switch_on"),
+    ]
+    h, r, d, first, zone = map(list, zip(*events))
+    out = break_zones(h, r, d, first)
+    expect = {z: zone.count(z) for z in ("in_zone", "along_shaft", "beyond_5R_below", "elsewhere",
+                                         "entry", "switch_on")}
+    for k, n in expect.items():
+        assert out[k] == n, (k, out)
+    assert out["n_events"] == 12
+    assert out["penetration"] == 9
+    assert out["fraction_in_zone"] == pytest.approx(3 / 9)
+    # the zones partition the events
+    assert sum(out[k] for k in expect) == out["n_events"]
+
+
+def test_no_penetration_gives_nan_fraction_and_bad_shapes_are_refused():
+    out = break_zones([0.0], [1.0], [1.0], [False])
+    assert out["entry"] == 1 and math.isnan(out["fraction_in_zone"])
+    out = break_zones(np.array([]), np.array([]), np.array([]), np.array([], dtype=bool))
+    assert out["n_events"] == 0
+    with pytest.raises(ValueError, match="one value per event"):
+        break_zones([0.0, 1.0], [1.0], [1.0], [False])
