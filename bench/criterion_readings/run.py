@@ -63,6 +63,9 @@ READINGS = {
     "peak_weibull": "pressure peak scatter weibull",
     "no_N": "size_law no_N",                    # a bracket: F_lim / 27
 }
+# particle dumps of the oedometer: the utilisation at 1, 10 and 30 MPa
+# (examples/oedometer/run.py, summary utilisation_at_MPa) needs them
+OEDO_DUMP_EVERY = 10000
 RESULTS = os.path.join(HERE, "results.json")
 EVR_RESULTS = os.path.join(REPO, "bench", "error_vs_runtime", "results.json")
 ROOT = os.path.join(REPO, "results", "criterion_readings")
@@ -80,7 +83,8 @@ def pieces():
     for name, kw in READINGS.items():
         out.append({"name": "oedometer_%s" % name, "scene": "oedometer",
                     "grains": "crushable_ne34", "reading": name,
-                    "setting": dict(evr.OEDO_REF, crush_reading=kw), "role": "reading"})
+                    "setting": dict(evr.OEDO_REF, crush_reading=kw, dump_every=OEDO_DUMP_EVERY),
+                    "role": "reading"})
         out.append({"name": "triaxial_%s" % name, "scene": "triaxial", "grains": "crushable_ne34",
                     "reading": name, "setting": {"crush_reading": kw}, "role": "reading"})
     for name, kw in READINGS.items():

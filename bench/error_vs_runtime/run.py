@@ -216,7 +216,7 @@ def oedometer_args(p, out, np_, tree=REPO):
     s = p["setting"]
     return driver_args(p, out, np_, "oedometer", tree) + [
         "--R-d50", repr(s["R_d50"]), "--H-d50", repr(s["H_d50"]), "--v-load", repr(s["v_load"]),
-        "--sv-max", repr(s["sv_max"]), "--dump-every", "0"]
+        "--sv-max", repr(s["sv_max"]), "--dump-every", str(s.get("dump_every", 0))]
 
 
 TEST_COLUMNS = ("qc", "e_void")     # thermo columns of the jacking / loading runs

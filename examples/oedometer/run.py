@@ -9,6 +9,7 @@ summary.json. All options are listed by --help.
 """
 
 import argparse
+import glob
 import json
 import math
 import os
@@ -22,7 +23,7 @@ import numpy as np  # noqa: E402
 
 from crushpost import oedometer  # noqa: E402
 from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
-from crushpost.dump import read_crush_log  # noqa: E402
+from crushpost.dump import read_crush_log, read_dump  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
 from crushpost.prep import element_prep_summary, prep_time_step  # noqa: E402
@@ -68,6 +69,7 @@ def postprocess(args, out, wall, n0):
     stress = oedometer.stress_path(os.path.join(out, "log.liggghts"))
     d50 = D50_NE34 * args.N
     psd = None
+    util = None
     pattern = os.path.join(out, "dump.grains.*.txt")
     if args.dump_every > 0:
         sizes = np.geomspace(0.05 * d50, 2.5 * d50, 60)
@@ -89,6 +91,10 @@ def postprocess(args, out, wall, n0):
             if k not in pick:
                 pick.append(k)
         psd = {"sizes": sizes, "steps": steps[pick], "sv": sv[pick], "F": F[pick]}
+        # how far the contacts stand from their limits at 1, 10 and 30 MPa
+        files = sorted(glob.glob(pattern))
+        snaps = [(sn["timestep"], sn["atoms"]) for f in files for sn in read_dump(f)]
+        util = oedometer.utilisation_at(snaps, stress, [1e6, 10e6, 30e6])
     load = stress["phase"] == 0
     summary = {
         "grains": args.grains, "tangential_model": args.tangential_model,
@@ -114,6 +120,8 @@ def postprocess(args, out, wall, n0):
         # (and that of the first break), crushpost.oedometer.crushing_onset
         "sigma_v_crush_onset_MPa": oedometer.crushing_onset(stress, n0)[0] / 1e6,
         "sigma_v_first_break_MPa": oedometer.crushing_onset(stress, n0)[1] / 1e6,
+        "utilisation_at_MPa": None if util is None else
+        {"%g" % (k / 1e6): v for k, v in util.items()},
         "fines_mass": float(stress["fines"][-1]), "wall_time_s": wall, "mpi_ranks": args.np,
         "prep": prep_report(args, out),
     }

@@ -91,6 +91,39 @@ def loading_state_at(path, sv_targets, key="e_void"):
     return np.where(ok, out, np.nan)
 
 
+def utilisation_at(snapshots, path, sv_targets, column="v_utilisation"):
+    """The grains' utilisation (largest F_n / F_lim over their contacts,
+    compute crush/atom) in the dump snapshot nearest to where the loading
+    branch first reaches each target stress: {target_Pa: {"step", "sv",
+    "n_contact", "median", "p90", "max", "frac_above_0.5"}} over the grains
+    with a contact (utilisation > 0); None for a target no snapshot on the
+    loading branch reaches, or when the dumps lack the column.
+
+    snapshots: [(step, atoms dict)]; path: the thermo path (stress_path)."""
+    load = np.asarray(path["phase"]) == 0
+    steps_l = np.asarray(path["Step"], float)[load]
+    sv_l = np.maximum.accumulate(np.asarray(path["sv"], float)[load])
+    snaps = [(st, a) for st, a in snapshots if column in a and st <= steps_l.max()]
+    out = {}
+    if not snaps:
+        return {float(t): None for t in np.atleast_1d(sv_targets)}
+    s_steps = np.array([st for st, _ in snaps], float)
+    s_sv = np.interp(s_steps, steps_l, sv_l)
+    for t in np.atleast_1d(np.asarray(sv_targets, float)):
+        if sv_l.max() < t:
+            out[float(t)] = None
+            continue
+        k = int(np.argmin(np.abs(np.log(np.maximum(s_sv, 1.0) / t))))
+        u = np.asarray(snaps[k][1][column], float)
+        u = u[u > 0]
+        out[float(t)] = {"step": int(s_steps[k]), "sv": float(s_sv[k]), "n_contact": int(u.size),
+                         "median": float(np.median(u)) if u.size else float("nan"),
+                         "p90": float(np.percentile(u, 90)) if u.size else float("nan"),
+                         "max": float(u.max()) if u.size else float("nan"),
+                         "frac_above_0.5": float(np.mean(u > 0.5)) if u.size else float("nan")}
+    return out
+
+
 def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None, events=None,
                   d_min=None, fines_grading="fractal", d_frag_min=0.0):
     """Grading curves (mass fraction finer than each size) of every dump.

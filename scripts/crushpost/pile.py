@@ -22,7 +22,8 @@ from .meshes import PILE_APEX_ANGLE_DEG
 
 __all__ = ["JACK_COLUMNS", "PHASE_PUSH", "PHASE_UNLOAD", "PHASE_PAUSE", "PHASE_DONE",
            "read_jack", "tip_z", "tip_z_at", "relative_to_tip", "pile_penetration",
-           "inside_pile", "break_zones", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN"]
+           "inside_pile", "break_zones", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
+           "UTILISATION_ZONES", "utilisation_by_zone"]
 
 #: Columns of the fix jack/pile time series, in file order.
 JACK_COLUMNS = ("step", "time", "depth", "F_cone", "F_shaft", "F_head", "phase", "cycle",
@@ -160,3 +161,39 @@ def break_zones(h_over_R, r_over_R, tip_depth_over_R, switch_on,
             "penetration": n_pen, "in_zone": int(in_zone.sum()), "along_shaft": int(shaft.sum()),
             "beyond_5R_below": int(below.sum()), "elsewhere": int(elsewhere.sum()),
             "fraction_in_zone": float(in_zone.sum()) / n_pen if n_pen else float("nan")}
+
+
+#: Zones of the utilisation census (issue "Crushing where the paper found
+#: it", item 1), in R relative to the apex: (name, r_lo, r_hi, h_lo, h_hi).
+UTILISATION_ZONES = (
+    ("below_tip", 0.0, 1.5, -2.0, 0.0),       # under the cone's apex
+    ("beside_cone", 1.0, 2.0, 0.0, 1.0 / math.tan(math.radians(30.0))),
+    ("band_2_3R", 2.0, 3.0, -2.0, 1.0 / math.tan(math.radians(30.0))),
+    ("far_field", 4.0, math.inf, -math.inf, math.inf),
+)
+
+
+def utilisation_by_zone(h_over_R, r_over_R, utilisation, zones=UTILISATION_ZONES):
+    """Per zone (UTILISATION_ZONES: half-open r and h ranges, lower edge
+    included) the grains' utilisation (largest F_n / F_lim over their
+    contacts, compute crush/atom column 4) and its statistics.
+
+    Returns {zone: {"n", "median", "p90", "max"}} (NaN statistics for an
+    empty zone) and, under the key "values", {zone: array} of the values."""
+    h = np.asarray(h_over_R, dtype=float)
+    r = np.asarray(r_over_R, dtype=float)
+    u = np.asarray(utilisation, dtype=float)
+    if not (h.shape == r.shape == u.shape):
+        raise ValueError("utilisation_by_zone: h, r and utilisation need one value per grain, "
+                         "got shapes %s %s %s" % (h.shape, r.shape, u.shape))
+    out, values = {}, {}
+    for name, r_lo, r_hi, h_lo, h_hi in zones:
+        sel = (r >= r_lo) & (r < r_hi) & (h >= h_lo) & (h < h_hi)
+        v = u[sel]
+        values[name] = v
+        out[name] = {"n": int(v.size),
+                     "median": float(np.median(v)) if v.size else float("nan"),
+                     "p90": float(np.percentile(v, 90)) if v.size else float("nan"),
+                     "max": float(v.max()) if v.size else float("nan")}
+    out["values"] = values
+    return out

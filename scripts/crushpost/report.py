@@ -39,8 +39,9 @@ from .dump import read_crush_log
 from .inputfile import InputFileError, read_checked, reason
 from .fields import (binned_mean, cell_breakage, event_density, interp_columns, interp_radius,
                      qc_reference, qc_trend_band, radial_increments, stress_quantities)
-from .pile import (PHASE_PAUSE, PHASE_PUSH, ZONE_DEPTH_MIN, ZONE_H_BELOW, ZONE_R_MAX, break_zones,
-                   inside_pile, read_jack, relative_to_tip, tip_z_at)
+from .pile import (PHASE_PAUSE, PHASE_PUSH, UTILISATION_ZONES, ZONE_DEPTH_MIN, ZONE_H_BELOW,
+                   ZONE_R_MAX, break_zones, inside_pile, read_jack, relative_to_tip, tip_z_at,
+                   utilisation_by_zone)
 from .prep import ring_edges
 from .rings import ring_fields, sphere_cell_volumes
 from .rotation import axis_rotation, unwrap_axis
@@ -671,6 +672,13 @@ def _states(rep, ctx):
         for k in ("porosity", "n_grains", "n_equiv"):
             arrays.setdefault(k, []).append(rf[k])
         states.append(info)
+        # utilisation of the grains by zone around the tip (compute crush/atom
+        # through the decks' v_utilisation), at the ends of pushes
+        u = p.get("values", {}).get("v_utilisation")
+        if u is not None and info.get("z_tip") is not None and info.get("kind") == "push_end":
+            hh_u, rr_u = relative_to_tip(x[:, 0], x[:, 1], x[:, 2], info["z_tip"], R)
+            ctx.setdefault("utilisation", []).append(
+                (info, utilisation_by_zone(hh_u, rr_u, np.ravel(u))))
         # Br in radial bands x layers, and the PSD of the whole sample
         if N:
             b_edges = _band_edges(r_edges[-1] / R, opt.band_width)
@@ -760,6 +768,49 @@ def _states(rep, ctx):
     _fig_bands(rep, ctx)
     _fig_psd(rep, ctx)
     _fig_increments(rep, ctx)
+    _fig_utilisation(rep, ctx)
+
+
+def _fig_utilisation(rep, ctx):
+    """How far the grains' contacts stand from their limits, by zone, at the
+    last end of a push (steady penetration)."""
+    rows = ctx.get("utilisation")
+    if not rows:
+        rep.skip("utilisation by zone", "the snapshots carry no v_utilisation (decks before "
+                 "compute crush/atom, or unbreakable grains)")
+        return
+    info, zones = rows[-1]
+    names = [z[0] for z in UTILISATION_ZONES]
+    for z in names:
+        for stat in ("median", "p90", "max"):
+            rep.head["utilisation_%s_%s" % (z, stat)] = zones[z][stat]
+    rep.head_notes["utilisation_below_tip_max"] = (
+        "utilisation = the largest F_n / F_lim over a grain's contacts (compute crush/atom), "
+        "at the last end of a push (step %d); zones in R around the apex: %s"
+        % (info["step"], "; ".join("%s %g<=r<%g, %g<=h<%g" % z for z in UTILISATION_ZONES)))
+    rep.put("utilisation", step=np.array([i["step"] for i, _ in rows]),
+            **{"%s_%s" % (z, st): np.array([zz[z][st] for _, zz in rows])
+               for z in names for st in ("n", "median", "p90", "max")})
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(5.6, 4.2))
+    for z in names:
+        v = np.sort(zones["values"][z])
+        v = v[v > 0]
+        if v.size:
+            ax.step(v, np.arange(1, v.size + 1) / v.size, where="post",
+                    label="%s (%d grains in contact)" % (z.replace("_", " "), v.size))
+    ax.axvline(1.0, color="k", lw=0.8, ls=":")
+    ax.set_xscale("log")
+    ax.set_xlabel("utilisation: largest F_n / F_lim of the grain's contacts (-)")
+    ax.set_ylabel("fraction of the zone's grains below (-)")
+    ax.set_title("contacts against their limits, step %d" % info["step"], fontsize=9)
+    ax.legend(fontsize=7)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    rep.figure(fig, "utilisation.png", "Contacts against their limits",
+               "Distribution of each grain's utilisation (its largest F_n / F_lim, with the run's "
+               "criterion reading) by zone around the tip at the last end of a push; 1 (dotted) "
+               "breaks the grain.")
 
 
 def _band_edges(r_max, width):

@@ -191,4 +191,5 @@ def oedometer_metrics(summary):
     return {k: summary.get(k) for k in ("e_core_at_10MPa", "e_core_at_30MPa", "e_at_10MPa",
                                          "e_at_30MPa", "Br_at_10MPa", "Br_at_30MPa", "Br_final",
                                          "n_break_events", "porosity_start_of_loading",
-                                         "sigma_v_crush_onset_MPa", "sigma_v_first_break_MPa")}
+                                         "sigma_v_crush_onset_MPa", "sigma_v_first_break_MPa",
+                                         "utilisation_at_MPa")}

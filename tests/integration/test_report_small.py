@@ -107,9 +107,12 @@ fix             crush all crush/particle sigma_lim0 {SIGMA_LIM0!r} m 10 d0 2e-3 
 variable        n_break equal f_crush[1]
 variable        fines equal f_crush[3]
 variable        Br equal f_crush[5]
-variable        sigma_lim atom f_crush[1]
-variable        generation atom f_crush[2]
-variable        m_atom atom mass
+compute         crush_atom all crush/atom crush
+variable        sigma_lim atom c_crush_atom[1]
+variable        generation atom c_crush_atom[2]
+variable        mass_true atom c_crush_atom[3]
+variable        utilisation atom c_crush_atom[4]
+variable        m_atom atom v_mass_true
 compute         M_grains all reduce sum v_m_atom
 include         ${{inputs}}/integrate.in
 include         ${{inputs}}/snapshot_prep.in
@@ -268,6 +271,11 @@ def test_vtk_files_hold_what_the_paraview_script_uses(run):
             assert g.GetNumberOfPoints() == atoms_at[step]
         gen = np.array([pd.GetArray("generation").GetValue(i) for i in range(g.GetNumberOfPoints())])
         assert np.all(gen >= 0) and np.all(gen == np.round(gen))
+        # per grain, not one global number for all (an atom variable f_crush[1]
+        # read the fix's global vector: every grain had the run's event count)
+        sig = np.array([pd.GetArray("sigma_lim").GetValue(i) for i in range(g.GetNumberOfPoints())])
+        assert np.unique(sig).size > 0.9 * sig.size, np.unique(sig)[:5]
+        assert np.count_nonzero(gen == 0) > 0.5 * gen.size
         m = _read_vtk(mpath)
         cd = m.GetCellData()
         assert set(paraview_state.MESH_ARRAYS) <= {cd.GetArrayName(i)

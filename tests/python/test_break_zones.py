@@ -46,3 +46,20 @@ def test_no_penetration_gives_nan_fraction_and_bad_shapes_are_refused():
     assert out["n_events"] == 0
     with pytest.raises(ValueError, match="one value per event"):
         break_zones([0.0, 1.0], [1.0], [1.0], [False])
+
+
+def test_utilisation_by_zone_known_answer():
+    from crushpost.pile import utilisation_by_zone
+    # one grain per zone, two in the far field, one outside every zone
+    h = [-1.0, 0.5, 1.0, 0.0, 3.0, 10.0]
+    r = [0.5, 1.5, 2.5, 5.0, 9.0, 3.5]
+    u = [0.04, 0.02, 0.01, 0.001, 0.003, 0.5]
+    out = utilisation_by_zone(h, r, u)
+    assert out["below_tip"]["n"] == 1 and out["below_tip"]["max"] == 0.04
+    assert out["beside_cone"]["median"] == 0.02
+    assert out["band_2_3R"]["n"] == 1
+    assert out["far_field"]["n"] == 2 and out["far_field"]["median"] == pytest.approx(0.002)
+    assert out["far_field"]["max"] == 0.003
+    assert sum(out[z]["n"] for z in ("below_tip", "beside_cone", "band_2_3R", "far_field")) == 5
+    empty = utilisation_by_zone([], [], [])
+    assert empty["below_tip"]["n"] == 0 and math.isnan(empty["below_tip"]["median"])

@@ -98,3 +98,20 @@ def test_printed_reading_is_the_decks_default():
     deck = (Path(__file__).resolve().parents[2] / "inputs" / "crushable_ne34.in").read_text()
     m = re.search(r'^variable crush_reading index "([^"]*)"', deck, re.M)
     assert m and m.group(1) == CRUSH_READING_PRINTED
+
+
+def test_utilisation_at_picks_the_snapshot_at_each_stress():
+    from crushpost.oedometer import utilisation_at
+    path = {"Step": np.array([0, 100, 200, 300, 400]), "phase": np.array([0, 0, 0, 0, 1]),
+            "sv": np.array([0.5e6, 1e6, 10e6, 30e6, 1e6])}
+    snaps = [(100, {"v_utilisation": np.array([0.0, 0.1, 0.2, 0.3])}),
+             (200, {"v_utilisation": np.array([0.4, 0.5, 0.6])}),
+             (300, {"v_utilisation": np.array([0.9, 0.2, 0.0, 0.7])}),
+             (400, {"v_utilisation": np.array([1.0])})]        # unloading: never picked
+    out = utilisation_at(snaps, path, [1e6, 10e6, 30e6, 50e6])
+    assert out[1e6]["step"] == 100 and out[1e6]["n_contact"] == 3
+    assert out[1e6]["median"] == pytest.approx(0.2)
+    assert out[10e6]["max"] == pytest.approx(0.6) and out[10e6]["frac_above_0.5"] == pytest.approx(1 / 3)
+    assert out[30e6]["step"] == 300 and out[30e6]["max"] == pytest.approx(0.9)
+    assert out[50e6] is None                       # never reached
+    assert utilisation_at([(100, {"radius": np.ones(2)})], path, [1e6])[1e6] is None
