@@ -84,6 +84,19 @@ def test_stated_fact_still_holds(fact):
         fact["doc"], fact["pattern"], fact["what"])
 
 
+@pytest.mark.parametrize("pending", doc_numbers.PENDING, ids=[p["doc"] for p in doc_numbers.PENDING])
+def test_numbers_without_a_results_file_are_marked(pending):
+    text = " ".join((REPO / pending["doc"]).read_text().split())
+    marked = " ".join(pending["marker"].split()) in text
+    if (REPO / pending["source"]).exists():
+        assert not marked, ("%s is committed: quote its numbers in %s and move its entries "
+                            "(doc_numbers.DEMO_ENTRIES) into ENTRIES" % (pending["source"],
+                                                                        pending["doc"]))
+    else:
+        assert marked, "%s quotes numbers of %s, which is not committed, without the marker %r" % (
+            pending["doc"], pending["source"], pending["marker"])
+
+
 def test_parsing_and_rounding():
     assert parse_quoted("1,586") == (1586.0, 1.0)
     assert parse_quoted("0.0320") == (0.032, pytest.approx(1e-4))
