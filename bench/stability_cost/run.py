@@ -17,7 +17,9 @@ one more line,
     fix stab all check/stability      (defaults: every 1, move 0.1, overlap 1.5, overlap_every 100)
 
 Both runs do the same work otherwise (same packing, same steps, 1 rank), so
-the difference of their instruction counts is the fix's cost. The script also
+the difference of their instruction counts is the fix's cost. The target
+(issue 12, TARGET): below 1 % of the loop's instructions; the script exits 1
+when either measure is not (after writing the results). The script also
 reads the instructions spent inside FixCheckStability's own functions
 (callgrind_annotate, inclusive) as a second, direct measure. Writes
 bench/stability_cost/results.json; raw files go to results/bench_stability_cost/
@@ -49,6 +51,20 @@ def deck_text(with_check):
     if with_check:
         text = text.replace(anchor, anchor + CHECK_LINE + "\n")
     return text
+
+
+#: issue 12: blow-up detection costs less than 1 % of a step
+TARGET = {"relative_cost_difference": 0.01, "relative_cost_own_functions": 0.01}
+
+
+def limit_failures(summary, target=TARGET):
+    """The measures at or above their target (or missing): one line each."""
+    out = []
+    for k, lim in target.items():
+        v = summary.get(k)
+        if v is None or not v < lim:
+            out.append("%s = %s not below the target %g" % (k, v, lim))
+    return out
 
 
 def callgrind(args, run_dir, with_check, deck_vars):
@@ -109,11 +125,17 @@ def main():
         "relative_cost_difference": diff / res["without"]["Ir_loop"],
         "relative_cost_own_functions": res["with"]["Ir_fix_check_stability_inclusive"] / res["without"]["Ir_loop"],
         "Ir_per_step_per_grain_own": res["with"]["Ir_fix_check_stability_inclusive"] / args.steps / stats["grains"],
+        "target": dict(TARGET),
         "command": "valgrind --tool=callgrind --toggle-collect='LAMMPS_NS::Verlet::run(int)' liggghts -in in.deck ...",
     }
     print(json.dumps(summary, indent=1))
     with open(args.results, "w") as fh:
         json.dump(summary, fh, indent=1)
+    bad = limit_failures(summary)
+    for line in bad:
+        print("TARGET MISSED: " + line)
+    print("below the 1 %% target: %s" % (not bad))
+    return 1 if bad else 0
 
 
 if __name__ == "__main__":

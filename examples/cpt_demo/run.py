@@ -349,7 +349,7 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         # a run in parts may change its rank count between them
         "core_s": wall * a.np if core_s is None else core_s, "mode": a.mode, "grains": a.grains, "N": a.N,
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
-        "plots": plots, "crush_reading": a.crush_reading,
+        "plots": plots, "crush_reading": getattr(a, "crush_reading", CRUSH_READING_PRINTED),
     }
     if zones is not None:
         summary["break_zones"] = zones

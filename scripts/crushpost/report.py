@@ -48,6 +48,7 @@ from .rotation import axis_rotation, unwrap_axis
 from .snapshot import list_snapshots, read_snapshot, snapshot_particle_stress
 from .spheres import read_sphere_series
 from .stress import invariants
+from .study import STUDY_TABLE, STUDY_TABLE_NAME, qc_run_scatter, qc_uncertainty
 from .thermo import parse_log
 from .trend import fit_qc_trend, mean_of_last_bands, qc_band_means, virgin_mask
 
@@ -67,7 +68,7 @@ LABEL = {"sigma_r": r"$\sigma_r$", "sigma_theta": r"$\sigma_\theta$", "sigma_z":
 #: headline numbers (names the --reference file may use) and their units
 HEADLINE_NAMES = {
     "qc_steady_MPa": "MPa", "qc_steady_err_MPa": "MPa", "qc_fit_b_per_m": "1/m",
-    "qc_last3_bands_MPa": "MPa",
+    "qc_last3_bands_MPa": "MPa", "qc_run_scatter_MPa": "MPa",
     "final_depth_mm": "mm", "n_break_events": "-", "n_break_events_first_step": "-",
     "Br_sample": "-",
     "events_switch_on": "-", "events_entry": "-", "events_penetration": "-",
@@ -483,6 +484,8 @@ def _qc(rep, ctx):
         % (int(virgin.sum()), "levelled off (b h_max = %.1f > 3)" % (fit.b * h_max) if levelled
            else "NOT levelled off (b h_max = %.2f): a lower estimate of the plateau"
            % (fit.b * h_max)))
+    rep.head_notes["qc_steady_err_MPa"] = "standard error of a from the fit's covariance"
+    _qc_scatter(rep, ctx, fit)
     fig, ax = plt.subplots(figsize=(5.5, 4.6))
     push = phase == PHASE_PUSH
     ax.plot(qc / 1e6, depth * 1e3, "-", lw=0.7, color="0.65", label="all phases")
@@ -506,6 +509,36 @@ def _qc(rep, ctx):
                "penetration only (pushing, tip at its deepest so far); the band is one standard "
                "deviation of the trend from the fit's covariance. %s"
                % rep.head_notes["qc_steady_MPa"])
+
+
+def _qc_scatter(rep, ctx, fit):
+    """The run-to-run scatter of steady q_c measured by the error-vs-runtime
+    study (pooled over the runs of its reference setting, read from its
+    committed results table) next to the fit's standard error, and which of
+    the two dominates."""
+    grains = ctx["summary"].get("grains")
+    if grains is None:
+        rep.skip("q_c run-to-run scatter", "%s names no grain model ('grains')"
+                 % rep.path("summary.json"))
+        return
+    sc = qc_run_scatter(grains)
+    if sc is None:
+        rep.skip("q_c run-to-run scatter", "no pooled spread of steady q_c for grains %r in %s"
+                 % (grains, STUDY_TABLE))
+        return
+    scatter, dominates = qc_uncertainty(fit.a, fit.a_err, sc["rel_sd"])
+    which = "run-to-run scatter" if dominates else "fit standard error"
+    rep.head["qc_run_scatter_MPa"] = float(scatter) / 1e6
+    rep.head_notes["qc_run_scatter_MPa"] = (
+        "one run's standard deviation of steady q_c between packings of the same setting, "
+        "%.1f %% of q_c (%s grains: sample sd over the %d runs of the error-vs-runtime study's "
+        "reference chamber, two packing seeds and two time steps; %s, chamber_spread); against "
+        "the fit's standard error %.3g MPa the %s dominates"
+        % (100.0 * sc["rel_sd"], grains, len(sc["runs"]),
+           STUDY_TABLE_NAME if sc["source"] == STUDY_TABLE else sc["source"],
+           fit.a_err / 1e6, which))
+    rep.attrs("qc", run_scatter_rel=sc["rel_sd"], run_scatter=float(scatter),
+              uncertainty_dominated_by=which)
 
 
 def _log_numbers(rep, ctx):
@@ -1436,7 +1469,9 @@ def _write_html(rep, ctx, reference):
             dv, rcell, rsrc = "", "", ""
         val = _fmt(v)
         if name == "qc_steady_MPa" and "qc_steady_err_MPa" in rep.head:
-            val += " &plusmn; %s" % _fmt(rep.head["qc_steady_err_MPa"])
+            val += " &plusmn; %s (fit s.e.)" % _fmt(rep.head["qc_steady_err_MPa"])
+            if "qc_run_scatter_MPa" in rep.head:
+                val += " &plusmn; %s (run to run)" % _fmt(rep.head["qc_run_scatter_MPa"])
         rows.append("<tr><td>%s</td><td>%s</td><td>%s</td><td>%s</td><td>%s</td><td>%s</td>"
                     "<td class=note>%s</td></tr>"
                     % (e(name), val, e(unit), rcell, dv, rsrc, e(rep.head_notes.get(name, ""))))

@@ -7,9 +7,12 @@ module turns those into errors relative to the reference, says which errors
 lie inside the reference's own seed-to-seed scatter (noise), and marks the
 Pareto front of error against cost. Everything here is vectorised numpy on
 plain arrays; the reading of run folders is in `chamber_metrics` and
-`oedometer_metrics`.
+`oedometer_metrics`, that of the study's committed results table (the
+run-to-run scatter a single run's report quotes) in `qc_run_scatter`.
 """
 
+import json
+import os
 import warnings
 
 import numpy as np
@@ -193,3 +196,50 @@ def oedometer_metrics(summary):
                                          "n_break_events", "porosity_start_of_loading",
                                          "sigma_v_crush_onset_MPa", "sigma_v_first_break_MPa",
                                          "utilisation_at_MPa")}
+
+
+# ---------------------------------------------------------------------------
+# the study's run-to-run scatter of steady q_c, for a single run's report
+
+#: results_table.json of bench/error_vs_runtime (written by `run.py --table`):
+#: its "chamber_spread" holds the pooled run-to-run spread of the reference
+#: setting (replicate_spread over its four runs: two packing seeds, two time
+#: steps). Found from this module's place in the checkout (scripts/crushpost).
+STUDY_TABLE_NAME = "bench/error_vs_runtime/results_table.json"
+STUDY_TABLE = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(
+    os.path.abspath(__file__)))), *STUDY_TABLE_NAME.split("/"))
+
+
+def qc_run_scatter(grains, path=None):
+    """The study's run-to-run scatter of steady q_c for the grain model
+    `grains` ('crushable_ne34' or 'unbreakable', summary.json "grains"): the
+    relative sample standard deviation of one chamber run, pooled over the
+    runs of the reference setting, read from the committed results table
+    (`path`, default STUDY_TABLE). Returns a dict (rel_sd, mean_MPa, runs,
+    source) or None when the file or the grain model is not there (a
+    crushpost installed away from its checkout, or an unknown model)."""
+    path = path or STUDY_TABLE
+    try:
+        with open(path) as f:
+            spread = json.load(f)["chamber_spread"]
+        m = spread["models"][grains]
+        rel = float(m["rel_std"]["qc_steady_MPa"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if not np.isfinite(rel):
+        return None
+    return {"rel_sd": rel, "mean_MPa": float(m["mean"]["qc_steady_MPa"]),
+            "runs": list(m.get("runs", [])), "source": path}
+
+
+def qc_uncertainty(qc, fit_se, rel_sd):
+    """A steady q_c's two uncertainties side by side: the fit's standard
+    error `fit_se` (how well the trend pins the plateau of this one run) and
+    the run-to-run scatter `rel_sd * |qc|` (how far another packing of the
+    same setting would land). Elementwise. Returns (scatter, scatter_dominates):
+    the scatter in the units of qc, and True where it exceeds the standard
+    error (False where it does not, or either is not finite)."""
+    qc = np.asarray(qc, float)
+    se = np.asarray(fit_se, float)
+    scatter = np.asarray(rel_sd, float) * np.abs(qc)
+    return scatter, np.isfinite(scatter) & np.isfinite(se) & (scatter > se)

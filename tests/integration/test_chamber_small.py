@@ -23,6 +23,8 @@ from harness import REPO
 
 from crushpost.thermo import read_log  # noqa: E402
 
+CTEST_TIMEOUT = 2500   # ctest's budget: the chamber run (timeout 1500 s), then its resumed part (900 s)
+
 SV, SR = 150e3, 76e3
 ZERO_TOL = 1.0
 

@@ -12,7 +12,15 @@ a. Br from the outside: a multi-grain compression (crush_multi scene, about
    than it are not created and count at their own size in 'fractal', below
    d_min in 'd_min'). With `d_min` the unclipped ratio is the former formula
    (all fines finer than d_min), computed here from the dump and f_crush[3].
-   Br stays in [0, 1] and never decreases.
+   Br never decreases, and never exceeds the unclipped ratio (the bound
+   clips a bin's integral to its limit grading's; breakage only moves mass
+   finer, so no bin falls below its initial integral).
+a2. The bound at work: the same compression pushed further (60,000 steps,
+   about 80 breaks, fines below d_min) takes Einav's unclipped ratio past 1
+   (about 1.3: finer than the limit grading at the coarse end). f_crush[8]
+   equals crushpost's unclipped ratio and f_crush[5] crushpost's bounded Br
+   (numpy, from the dumps and the event log), which is below 1 and below the
+   unclipped ratio at every output.
 b. Lost grains: a grain flies out through a boundary without a wall while
    another grain is crushed by a platen; `thermo_modify lost ignore` lets the
    run go on (and stock LIGGGHTS 3.8's `lost error`, which compared counts
@@ -95,7 +103,10 @@ def test_br_equals_crushpost_from_dump_and_event_log(tmp_path_factory, name, npr
     assert blk["crush[5]"][-1] == pytest.approx(py.Br, rel=1e-10, abs=1e-12)
     assert blk["crush[8]"][-1] == pytest.approx(py.Br_einav, rel=1e-10, abs=1e-12)
     br = blk["crush[5]"]
-    assert np.all((br >= 0) & (br <= 1)) and br[-1] > 0
+    assert br[-1] > 0
+    # the bound only lowers Br (the fix's bounded value is not checked
+    # against [0, 1] here: it is clipped by construction; a2 below)
+    assert np.all(br <= blk["crush[8]"] + 1e-12), (br, blk["crush[8]"])
     assert np.all(np.diff(br) >= -1e-12), "Br decreased"
     if grading == "d_min":
         # the former formula: every fines mass finer than d_min
@@ -116,6 +127,39 @@ def test_fractal_fines_count_less_than_fines_below_d_min(tmp_path_factory):
     dm = breakage(d, m, d0, m0, BR_DMIN, BR_DMAX, fines=fines, fines_grading="d_min")
     assert res.blk["crush[5]"][-1] == pytest.approx(fr.Br, rel=1e-10)
     assert 0 < fr.Br < dm.Br
+
+
+# ---------------------------------------------------------------------------
+# a2. the bound acting on an unclipped ratio above 1
+# ---------------------------------------------------------------------------
+
+FAR_STEPS = 60000
+
+
+def test_bound_acts_when_einav_ratio_passes_one(tmp_path):
+    extra = f" d_min {BR_DMIN!r} d_max {BR_DMAX!r} fines_grading d_min"
+    scene = cm.compression_scene(tmp_path, nx=4, ny=2, height=0.006, dmin=6e-4, dmax=1.2e-3,
+                                 nsteps=FAR_STEPS, thermo=500, dump_every=FAR_STEPS, extra=extra)
+    deck = scene.deck.replace("f_crush[6] f_crush[7]\n", "f_crush[6] f_crush[7] f_crush[8]\n")
+    assert deck != scene.deck
+    res = harness.run_deck(deck, tmp_path, nprocs=1, timeout=300, extra_args=cm.MESH_ARGS,
+                           check=True)
+    (blk,) = res.thermo
+    assert blk["Step"][-1] == FAR_STEPS, res.summary()
+    d, m = _grading(res, FAR_STEPS)
+    d0, m0 = _grading(res, 0)
+    ev = read_crush_log(res.path("events.txt"))
+    assert len(ev["step"]) == blk["crush[1]"][-1] >= 50
+    fines = break_fines(ev["parent_diameter"], density=cm.DENSITY)
+    py = breakage(d, m, d0, m0, BR_DMIN, BR_DMAX, fines=fines, fines_grading="d_min")
+    # the case the bound is for: the unclipped ratio is outside [0, 1]
+    assert py.Br_einav > 1.1, py
+    assert blk["crush[8]"][-1] == pytest.approx(py.Br_einav, rel=1e-10)
+    assert blk["crush[5]"][-1] == pytest.approx(py.Br, rel=1e-10)
+    assert 0.5 < py.Br < 1.0
+    br, einav = blk["crush[5]"], blk["crush[8]"]
+    assert np.all(br <= einav + 1e-12) and np.all(br < 1.0)
+    assert np.any(einav > 1.0) and np.all(np.diff(br) >= -1e-12)
 
 
 # ---------------------------------------------------------------------------

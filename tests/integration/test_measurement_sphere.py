@@ -39,6 +39,8 @@ from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_da
 from crushpost.spheres import measurement_sphere_block, read_sphere_series  # noqa: E402
 from crushpost.stress import sphere_stress  # noqa: E402
 
+CTEST_TIMEOUT = 1000   # ctest's budget: the one sphere run (timeout 900 s)
+
 N = 39
 D50 = D50_NE34 * N
 L = 12 * D50         # cube side

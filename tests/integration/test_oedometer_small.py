@@ -58,6 +58,8 @@ import harness  # noqa: E402
 from crushpost.oedometer import stress_path  # noqa: E402
 from crushpost.prep import core_area, core_volumes  # noqa: E402
 
+CTEST_TIMEOUT = 1900   # ctest's budget: the crushable and the unbreakable runs (RUN_TIMEOUT each)
+
 RUN_PY = harness.REPO / "examples" / "oedometer" / "run.py"
 RHO = 2600.0
 N = 39.0

@@ -43,6 +43,8 @@ import harness
 EXAMPLE = harness.REPO / "examples" / "triaxial"
 from crushpost import triaxial as tx  # noqa: E402
 
+CTEST_TIMEOUT = 2800   # ctest's budget: three runs (walls unbreakable, walls crushable, periodic; 900 s each)
+
 SIGMA3 = 100e3
 SETTLE = 0.005          # axial strain after which the servo is judged
 # core porosity of the preparation: the small specimen's core (farther than

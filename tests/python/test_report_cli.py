@@ -17,6 +17,7 @@ import pytest
 
 h5py = pytest.importorskip("h5py")
 
+from crushpost import study  # noqa: E402
 from crushpost.cli import main  # noqa: E402
 from crushpost.snapshot import write_snapshot  # noqa: E402
 from crushpost.trend import qc_trend  # noqa: E402
@@ -360,6 +361,72 @@ def test_breaks_at_the_first_step_of_jacking_are_counted_apart(tmp_path):
     assert main(["report", str(run), "--out", str(tmp_path / "out"), "--quiet"]) == 0
     with h5py.File(tmp_path / "out" / "fields.h5", "r") as f:
         assert f["headline"].attrs["n_break_events_first_step"] == 3
+
+
+def _head_and_qc_attrs(out):
+    with h5py.File(out / "fields.h5", "r") as f:
+        return dict(f["headline"].attrs), dict(f["qc"].attrs)
+
+
+def _committed_rel_sd(grains):
+    # the study's pooled run-to-run spread of steady q_c, as run.py --table wrote it
+    with open(study.STUDY_TABLE) as f:
+        return json.load(f)["chamber_spread"]["models"][grains]["rel_std"]["qc_steady_MPa"]
+
+
+def test_qc_run_to_run_scatter_next_to_the_fit_error(report):
+    # the synthetic q_c lies on the trend: the fit's standard error is
+    # round-off, so the study's run-to-run scatter (3.6 % crushable) dominates
+    out, _ = report
+    head, qa = _head_and_qc_attrs(out)
+    rel = _committed_rel_sd("crushable_ne34")
+    assert head["qc_run_scatter_MPa"] == pytest.approx(rel * head["qc_steady_MPa"], rel=1e-12)
+    assert head["qc_steady_err_MPa"] < 1e-3 * head["qc_run_scatter_MPa"]
+    assert qa["uncertainty_dominated_by"] == "run-to-run scatter"
+    assert qa["run_scatter_rel"] == rel
+    row = [r for r in (out / "report.html").read_text().split("<tr>")
+           if r.startswith("<td>qc_steady_MPa</td>")][0]
+    assert "(fit s.e.)" in row and "(run to run)" in row
+    note = [r for r in (out / "report.html").read_text().split("<tr>")
+            if r.startswith("<td>qc_run_scatter_MPa</td>")][0]
+    assert "%.1f %%" % (100 * rel) in note and "run-to-run scatter dominates" in note
+
+
+def test_a_noisy_fit_error_dominates_the_scatter(tmp_path):
+    # unbreakable grains (4.2 %) and q_c with 30 % noise on 40 points: the
+    # fit's standard error, about 0.3 MPa, exceeds 4.2 % of 4 MPa
+    run = make_run(tmp_path / "run", snapshots=False)
+    s = json.loads((run / "summary.json").read_text())
+    s["grains"] = "unbreakable"
+    (run / "summary.json").write_text(json.dumps(s))
+    lines = (run / "jack.txt").read_text().splitlines(True)
+    rng = np.random.default_rng(5)
+    noisy = []
+    for line in lines:
+        w = line.split()
+        if not line.startswith("#") and w[6] == "0" and float(w[3]) > 0:
+            w[3] = "%.17g" % (float(w[3]) * (1 + 0.3 * rng.standard_normal()))
+            line = " ".join(w) + "\n"
+        noisy.append(line)
+    (run / "jack.txt").write_text("".join(noisy))
+    assert main(["report", str(run), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    head, qa = _head_and_qc_attrs(tmp_path / "out")
+    rel = _committed_rel_sd("unbreakable")
+    assert head["qc_run_scatter_MPa"] == pytest.approx(rel * head["qc_steady_MPa"], rel=1e-12)
+    assert head["qc_steady_err_MPa"] > head["qc_run_scatter_MPa"]
+    assert qa["uncertainty_dominated_by"] == "fit standard error"
+
+
+def test_no_scatter_without_a_grain_model(tmp_path):
+    run = make_run(tmp_path / "run", snapshots=False)
+    s = json.loads((run / "summary.json").read_text())
+    del s["grains"]
+    (run / "summary.json").write_text(json.dumps(s))
+    res = _run_cli([str(run), "--out", str(tmp_path / "out")])
+    assert res.returncode == 0, res.stderr
+    assert "q_c run-to-run scatter skipped" in res.stderr
+    head, _ = _head_and_qc_attrs(tmp_path / "out")
+    assert "qc_run_scatter_MPa" not in head and "qc_steady_MPa" in head
 
 
 @pytest.mark.parametrize("argv, words", [

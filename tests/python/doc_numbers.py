@@ -1,0 +1,209 @@
+"""Where the numbers the README and docs/ quote from runs come from (issue 42
+item 6): one entry per quoted number, read by tests/python/test_doc_numbers.py.
+
+An entry names the document, a regular expression that finds the quote in
+it (whitespace in the pattern matches any run of whitespace, so line breaks
+of the markdown do not matter; the number is the first group), the
+committed results file the number comes from and the value in it: a path
+into the JSON (`a.b[k=v].c`: the element of list b whose field k is v), or
+a function of the parsed file. `scale` turns the file's unit into the
+quote's (100 for a fraction quoted in %). The test reads the number back
+and compares it with the file's value at the quote's precision (half a unit
+of its last digit). A doc rewritten so that the quote is gone fails too:
+move the pattern with the number.
+
+To add a number: quote it in the doc, add an entry here, and run
+`build/venv/bin/python -m pytest tests/python/test_doc_numbers.py`.
+"""
+
+import statistics
+
+import numpy as np
+
+EVR_TABLE = "bench/error_vs_runtime/results_table.json"
+DEMO = "bench/demo/summary.json"
+
+
+def _pooled_ratio(d):
+    """The unbreakable/crushable q_c ratio pooled over the four runs of the
+    reference setting (bench/error_vs_runtime/run.py --table): mean and
+    relative sample sd of the per-setting ratios."""
+    keep = set(d["chamber_spread"]["settings"])
+    r = np.array([row["ratio"] for row in d["qc_ratio_unbreakable_over_crushable"]
+                  if row["setting"] in keep])
+    assert r.size == 4, r
+    return float(r.mean()), float(r.std(ddof=1) / r.mean())
+
+
+def _device_pairs(d, ranks):
+    """bench/crush_overhead/results_device.json: the fix's own cost (extra
+    "Other" over the stock loop) of every pair of the three invocations."""
+    return [x for inv in d["invocations"] for x in inv["summary"][ranks]["fix_share_from_other"]]
+
+
+def _device_ratio_of_medians(d, ranks):
+    stock = [x for inv in d["invocations"] for x in inv["summary"][ranks]["stock_loop_s"]]
+    crush = [x for inv in d["invocations"] for x in inv["summary"][ranks]["crush_loop_s"]]
+    return statistics.median(crush) / statistics.median(stock)
+
+
+def F(doc, pattern, holds, what):
+    """A statement of a doc (pattern: it must be there) that is true only
+    while `holds(repo_path)` is: the test fails when the repository changes
+    under it, naming `what` to re-check."""
+    return {"doc": doc, "pattern": pattern, "holds": holds, "what": what}
+
+
+def _reads(path, needle):
+    return lambda repo: needle in (repo / path).read_text()
+
+
+def N(doc, pattern, source, value, scale=1.0):
+    return {"doc": doc, "pattern": pattern, "source": source, "value": value, "scale": scale}
+
+
+CROSS = "chamber_spread.models.crushable_ne34"
+RIGID = "chamber_spread.models.unbreakable"
+PREP = "bench/prep/results.json"
+WALL16 = "bench/icount/results_scaling_wall_16core.json"
+
+ENTRIES = [
+    # --- error against run time: the pooled run-to-run spread (results_table.json)
+    N("docs/error-vs-runtime.md", r"\| crushable \(4 runs\) \| ([\d.]+), sd [\d.]+ %", EVR_TABLE,
+      CROSS + ".mean.qc_steady_MPa"),
+    N("docs/error-vs-runtime.md", r"\| crushable \(4 runs\) \| [\d.]+, sd ([\d.]+) %", EVR_TABLE,
+      CROSS + ".rel_std.qc_steady_MPa", 100.0),
+    N("docs/error-vs-runtime.md", r"\| crushable \(4 runs\) \| [\d.]+, sd [\d.]+ % \| ([\d.]+), sd",
+      EVR_TABLE, CROSS + ".mean.Br_band_1_2"),
+    N("docs/error-vs-runtime.md",
+      r"\| crushable \(4 runs\) \| [\d.]+, sd [\d.]+ % \| [\d.]+, sd ([\d.]+) %", EVR_TABLE,
+      CROSS + ".rel_std.Br_band_1_2", 100.0),
+    N("docs/error-vs-runtime.md",
+      r"\| crushable \(4 runs\) \| [^|]+\| [^|]+\| ([\d,]+), sd [\d.]+ %", EVR_TABLE,
+      CROSS + ".mean.sigma_r_2R_kPa"),
+    N("docs/error-vs-runtime.md",
+      r"\| crushable \(4 runs\) \| [^|]+\| [^|]+\| [\d,]+, sd ([\d.]+) %", EVR_TABLE,
+      CROSS + ".rel_std.sigma_r_2R_kPa", 100.0),
+    N("docs/error-vs-runtime.md", r"\| unbreakable \(4 runs\) \| ([\d.]+), sd [\d.]+ %", EVR_TABLE,
+      RIGID + ".mean.qc_steady_MPa"),
+    N("docs/error-vs-runtime.md", r"\| unbreakable \(4 runs\) \| [\d.]+, sd ([\d.]+) %", EVR_TABLE,
+      RIGID + ".rel_std.qc_steady_MPa", 100.0),
+    N("docs/error-vs-runtime.md",
+      r"\| unbreakable \(4 runs\) \| [^|]+\| [^|]+\| ([\d,]+), sd [\d.]+ %", EVR_TABLE,
+      RIGID + ".mean.sigma_r_2R_kPa"),
+    N("docs/error-vs-runtime.md",
+      r"\| unbreakable \(4 runs\) \| [^|]+\| [^|]+\| [\d,]+, sd ([\d.]+) %", EVR_TABLE,
+      RIGID + ".rel_std.sigma_r_2R_kPa", 100.0),
+    N("docs/error-vs-runtime.md", r"one run's standard deviation is ([\d.]+) and [\d.]+ % in q_c",
+      EVR_TABLE, CROSS + ".rel_std.qc_steady_MPa", 100.0),
+    N("docs/error-vs-runtime.md", r"one run's standard deviation is [\d.]+ and ([\d.]+) % in q_c",
+      EVR_TABLE, RIGID + ".rel_std.qc_steady_MPa", 100.0),
+    N("docs/error-vs-runtime.md", r"q_c ratio \*\*([\d.]+), sd [\d.]+ %\*\*", EVR_TABLE,
+      lambda d: _pooled_ratio(d)[0]),
+    N("docs/error-vs-runtime.md", r"q_c ratio \*\*[\d.]+, sd ([\d.]+) %\*\*", EVR_TABLE,
+      lambda d: _pooled_ratio(d)[1], 100.0),
+    N("docs/report.md", r"\(two packing seeds, two time steps; ([\d.]+) % of q_c", EVR_TABLE,
+      CROSS + ".rel_std.qc_steady_MPa", 100.0),
+    N("docs/report.md", r"of q_c for crushable grains, ([\d.]+) % for unbreakable", EVR_TABLE,
+      RIGID + ".rel_std.qc_steady_MPa", 100.0),
+    # --- preparation study (bench/prep/results.json)
+    N("docs/preparation.md", r"\| \*\*core porosity, prepared\*\* [^|]+\| \*\*([\d.]+)\*\*", PREP,
+      "cases[case=demo_2024].porosity_core"),
+    N("docs/preparation.md", r"\| \*\*core porosity, prepared\*\* [^|]+\| \*\*[\d.]+\*\*; ([\d.]+)",
+      PREP, "cases[case=demo_2024].porosity_core_deck"),
+    N("docs/preparation.md",
+      r"\| \*\*core porosity, prepared\*\* [^|]+\| [^|]+\| \*\*([\d.]+)\*\*", PREP,
+      "cases[case=demo_2025].porosity_core"),
+    N("docs/preparation.md",
+      r"\| \*\*core porosity, prepared\*\* [^|]+\| [^|]+\| [^|]+\| \*\*([\d.]+)\*\*", PREP,
+      "cases[case=paper_R216_q].porosity_core"),
+    # --- performance
+    N("docs/performance.md", r"ring stresses in \*\*([\d.]+) s\*\* \(median of 3",
+      "bench/report/results.json", "median.total_s"),
+    N("docs/performance.md", r"peak resident memory of \*\*([\d.]+) GB\*\*",
+      "bench/report/results.json", "median.peak_rss_MB", 1.0 / 1024.0),
+    N("docs/report.md", r"stresses in ([\d.]+) s \(median of 3 runs\)",
+      "bench/report/results.json", "median.total_s"),
+    N("docs/report.md", r"\(median of 3 runs\) and ([\d.]+) GB", "bench/report/results.json",
+      "median.peak_rss_MB", 1.0 / 1024.0),
+    N("docs/performance.md", r"\| 1 \| [^|]+\| [^|]+\| [^|]+\| [^|]+\| \*\*([\d.]+)\*\* \(0.962",
+      "bench/break_cost/results_callgrind.json",
+      "summary_medians.np1.crush_over_stock_same_packings"),
+    N("docs/performance.md", r"\| 2 \| [^|]+\| [^|]+\| [^|]+\| [^|]+\| \*\*([\d.]+)\*\* \(0.963",
+      "bench/break_cost/results_callgrind.json",
+      "summary_medians.np2.crush_over_stock_same_packings"),
+    N("docs/performance.md", r"\*\*[\d.]+\*\* \(0.962 before the cuts\) \| \*\*([\d.]+)\*\*",
+      "bench/break_cost/results_callgrind.json", "summary_medians.np1.crush_over_stock_mean"),
+    N("docs/performance.md", r"\*\*[\d.]+\*\* \(0.963\) \| \*\*([\d.]+)\*\*",
+      "bench/break_cost/results_callgrind.json", "summary_medians.np2.crush_over_stock_mean"),
+    N("docs/performance.md", r"is \*\*([\d.]+) % of the stock loop time at 1 rank\*\*",
+      "bench/crush_overhead/results_device.json",
+      lambda d: statistics.median(_device_pairs(d, "1")), 100.0),
+    N("docs/performance.md", r"and \*\*([\d.]+) % at 2 ranks\*\*",
+      "bench/crush_overhead/results_device.json",
+      lambda d: statistics.median(_device_pairs(d, "2")), 100.0),
+    N("docs/performance.md", r"ratios of medians are \*\*([\d.]+) at 1 rank",
+      "bench/crush_overhead/results_device.json", lambda d: _device_ratio_of_medians(d, "1")),
+    N("docs/performance.md", r"ratios of medians are \*\*[\d.]+ at 1 rank and ([\d.]+) at 2 ranks",
+      "bench/crush_overhead/results_device.json", lambda d: _device_ratio_of_medians(d, "2")),
+    N("docs/performance.md", r"\| 1 \| \| \| 10 \| \*\*([\d.e]+)\*\*", WALL16,
+      "summary.rate_1_rank_median"),
+    N("docs/performance.md", r"\| 16 \| `\* \* 1` \| no \| 11 \| \*\*([\d.e]+)\*\*", WALL16,
+      "summary.rows[np=16,proc_grid=* * 1].rate_median"),
+    N("docs/performance.md", r"\| 16 \| `\* \* 1` \| no \| 11 \| [^|]+\| \*\*([\d.]+)\*\*", WALL16,
+      "summary.rows[np=16,proc_grid=* * 1].efficiency_vs_1_rank"),
+    N("docs/performance.md", r"\| 16 \| `8 1 2` \| yes \| 11 \| \*\*([\d.e]+)\*\*", WALL16,
+      "summary.rows[np=16,proc_grid=8 1 2].rate_median"),
+    N("docs/performance.md", r"\| 16 \| `8 1 2` \| yes \| 11 \| [^|]+\| \*\*([\d.]+)\*\*", WALL16,
+      "summary.rows[np=16,proc_grid=8 1 2].efficiency_vs_1_rank"),
+    N("docs/stability.md", r"\| difference \| [\d,]+ \(([\d.]+) %\) \|",
+      "bench/stability_cost/results.json", "relative_cost_difference", 100.0),
+    N("docs/stability.md", r"That is (\d+) instructions per grain per step",
+      "bench/stability_cost/results.json", "Ir_per_step_per_grain_own"),
+]
+
+FACTS = [
+    F("docs/stability.md", r"`inputs/pile_jacking.in` has included `inputs/check_stability.in`",
+      _reads("inputs/pile_jacking.in", "include ${inputs}/check_stability.in"),
+      "the chamber's jacking block includes the blow-up check"),
+    F("docs/stability.md", r"defaults `move 0.1 overlap 1.5`",
+      lambda repo: all(x in (repo / "inputs/check_stability.in").read_text()
+                       for x in ("variable stab_move    index 0.1",
+                                 "variable stab_overlap index 1.5")),
+      "inputs/check_stability.in's defaults"),
+    F("docs/performance.md", r"It ran on a 16-core machine lent on 2026-12-04",
+      lambda repo: (repo / "bench/icount/results_scaling_wall_16core.json").exists()
+      and "--wall" in (repo / "bench/device/scaling_wall.sh").read_text(),
+      "the 16-core --wall results are committed and scaling_wall.sh runs --wall"),
+]
+
+# Numbers quoted from a run whose results file is not committed yet: each
+# doc carries the marker instead of a current number (a dated, earlier
+# measurement may stay beside it). While the file is missing the marker
+# must be there; once the file is committed the test fails until the docs
+# quote its numbers and DEMO_ENTRIES (patterns to adjust to the new text)
+# move into ENTRIES. The demo: `scripts/demo`, then copy
+# results/demo/summary.json to bench/demo/summary.json, on quiet cores (8
+# minutes on this machine's 2 cores on 2026-12-02; on 2026-12-06, under a
+# load average of about 10 from other jobs, 5,040 steps of its preparation
+# took 967 s and the run was stopped unfinished).
+DEMO_MARK = "to be measured again with the present code: `bench/demo/summary.json`"
+PENDING = [{"doc": doc, "marker": DEMO_MARK, "source": DEMO}
+           for doc in ("README.md", "docs/cpt.md", "docs/error-vs-runtime.md")]
+
+DEMO_ENTRIES = [
+    N("README.md", r"its steady q_c was ([\d.]+) MPa", DEMO, "qc_steady_MPa"),
+    N("README.md", r"its steady q_c was [\d.]+ MPa with b h = ([\d.]+) in the fit", DEMO,
+      lambda d: d["qc_fit_b"] * d["final_depth_m"]),
+    N("docs/cpt.md", r"q_c levels off: a = ([\d.]+) \+- [\d.]+ MPa", DEMO, "qc_steady_MPa"),
+    N("docs/cpt.md", r"q_c levels off: a = [\d.]+ \+- ([\d.]+) MPa", DEMO, "qc_fit_a_err_MPa"),
+    N("docs/cpt.md", r"q_c levels off: a = [\d.]+ \+- [\d.]+ MPa, b = ([\d.]+) 1/m", DEMO,
+      "qc_fit_b"),
+    N("docs/cpt.md", r"b = [\d.]+ 1/m, b h = ([\d.]+); \d+ breaks", DEMO,
+      lambda d: d["qc_fit_b"] * d["final_depth_m"]),
+    N("docs/cpt.md", r"b h = [\d.]+; (\d+) breaks, no failed check", DEMO, "n_break_events"),
+    N("docs/error-vs-runtime.md", r"\*\*q_c levels off, a = ([\d.]+) MPa, b h = [\d.]+\*\*", DEMO,
+      "qc_steady_MPa"),
+    N("docs/error-vs-runtime.md", r"\*\*q_c levels off, a = [\d.]+ MPa, b h = ([\d.]+)\*\*", DEMO,
+      lambda d: d["qc_fit_b"] * d["final_depth_m"]),
+]
