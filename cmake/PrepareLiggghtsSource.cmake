@@ -2,20 +2,16 @@
 # needs there, and writes the style_*.h registries (what `Make.sh style` does)
 # so that they list the stock styles and ours from src_liggghts_plugin/.
 
-# Replace `from` by `to` in `file`; fail loudly if the text is not there, so
-# a LIGGGHTS version we were not written for is noticed.
-function(_crush_patch file from to)
-  file(READ "${file}" _text)
-  string(FIND "${_text}" "${to}" _done)
-  if(NOT _done EQUAL -1)
-    return()  # already patched (`to` may contain `from`)
-  endif()
-  string(FIND "${_text}" "${from}" _pos)
+# In the text of variable `var`, replace `from` by `to`; fail loudly if the
+# text is not there, so that a LIGGGHTS version we were not written for is
+# noticed.
+function(_crush_patch var from to)
+  string(FIND "${${var}}" "${from}" _pos)
   if(_pos EQUAL -1)
-    message(FATAL_ERROR "Cannot patch ${file}: text not found: ${from}")
+    message(FATAL_ERROR "Cannot patch LIGGGHTS source: text not found: ${from}")
   endif()
-  string(REPLACE "${from}" "${to}" _text "${_text}")
-  file(WRITE "${file}" "${_text}")
+  string(REPLACE "${from}" "${to}" _text "${${var}}")
+  set(${var} "${_text}" PARENT_SCOPE)
 endfunction()
 
 # Write `content` to `file` only when it differs, so unchanged registries do
@@ -66,65 +62,48 @@ function(prepare_liggghts_source src dst plugin_dir)
     file(WRITE "${_stamp}" "${src}")
   endif()
 
-  # Fixes applied in the build tree only (idempotent: a patched file is left alone).
-  # GCC 12: utils.h casts a temporary ostringstream to a reference, and
-  # finish.cpp compares the pointer numneigh with > 0.
-  _crush_patch("${dst}/utils.h"
-    "return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();"
-    "std::ostringstream s; s << std::dec << a; return s.str();")
-  _crush_patch("${dst}/finish.cpp"
-    "if (neighbor->lists[m]->numneigh > 0) {"
-    "if (neighbor->lists[m]->numneigh != NULL) {")
-  # `-screen none` leaves screen NULL, but many LIGGGHTS messages (the STL
-  # reader among them) print to it unchecked and crash: send them to /dev/null.
-  _crush_patch("${dst}/lammps.cpp"
-    "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = NULL;"
-    "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = fopen(\"/dev/null\",\"w\");")
-
-  # Lost atoms. LIGGGHTS 3.8's Comm::exchange (every re-neighbouring) resets
-  # atom->natoms to the current count, so atom->natoms is no bookkeeping:
-  # a grain that leaves the box through a fixed boundary is dropped there and
-  # the total follows it. Stock LAMMPS keeps atom->natoms as the bookkept
-  # total (read_data, create_atoms, delete_atoms, fix insert, fix
-  # crush/particle update it): do the same.
-  _crush_patch("${dst}/comm.cpp"
-    "  bigint tmp = atom->nlocal;\n  MPI_Allreduce(&tmp,&atom->natoms,1,MPI_LMP_BIGINT,MPI_SUM,world);\n\n  if (atom->firstgroupname) atom->first_reorder();"
-    "  // atom->natoms is the bookkept total: not reset to the current count here,\n  // so that Thermo::lost_check sees atoms lost on the way (crushable-grain package)\n\n  if (atom->firstgroupname) atom->first_reorder();")
-  # Thermo::lost_check then compares the current count with the bookkept
-  # total (stock: with the count at the previous thermo output, which misses
-  # a loss in an interval where fix crush/particle created more atoms, and
-  # reports the atoms that fix deletes on purpose with d_frag_min).
-  # (Build trees prepared before carry an earlier version of this patch.)
-  set(_lost_earlier "if(ntotal < last_natoms && ntotal != atom->natoms)\n    lost = true;")
-  file(READ "${dst}/thermo.cpp" _thermo)
-  string(FIND "${_thermo}" "${_lost_earlier}" _earlier)
-  if(_earlier EQUAL -1)
-    set(_lost_earlier "if(ntotal < last_natoms)\n    lost = true;")
-  endif()
-  _crush_patch("${dst}/thermo.cpp" "${_lost_earlier}" "if(ntotal != atom->natoms)\n    lost = true;")
-
-  # mesh/surface/stress zeroes its total force in pre_force and sums it over
-  # the ranks in final_integrate, but not around the set-up of a run, where
-  # fix wall/gran adds the set-up forces on top of the previous total: the
-  # first thermo row of every run (and anything evaluated at setup) read
-  # about twice the force. Reset the totals at setup as at every step, so
-  # that at setup the last summed total (that of the previous step) is read.
-  _crush_patch("${dst}/mesh_module_stress.h"
-    "virtual void setup(int vflag) {}"
-    "virtual void setup(int vflag) {}\n        virtual void setup_pre_force(int vflag) { pre_force(vflag); }")
-
-  # Mesh walls: every step, for every mesh, FixContactHistoryMesh::markAllContacts
-  # (called by fix wall/gran) cleared every page of the keep flags (memset of
-  # all pages, used or not) and took two page slots for every owned grain,
-  # also for the many with no triangle of that mesh in their neighbour list
-  # (nneighs 0), whose slots are never read: their contact history is empty
-  # after the page rebuild of a neighbour build (FixContactHistoryMesh::
-  # pre_force), handleContact sees only grains in a triangle's list, and
-  # cleanUpContacts, sort_contacts and n_contacts loop over nneighs or npartner
-  # (both 0). Clear only the slots handed out, and skip those grains
-  # (docs/performance.md, "Mesh walls").
-  _crush_patch("${dst}/fix_contact_history_mesh.cpp"
-    "    keeppage_[0]->reset(true);
+  # Changes to LIGGGHTS' own files, applied to the build copy only. Every
+  # file that this package changes, or changed in an earlier version, is made
+  # here from the pristine source text with the changes below (and nothing
+  # else), and written only when that differs from the build copy: a build
+  # tree prepared by an earlier version returns to stock where a change was
+  # dropped, and unchanged files are not recompiled. A stock deck must run
+  # exactly as with stock LIGGGHTS: docs/liggghts-patches.md lists each change,
+  # why it is there and the test that shows stock behaviour is kept.
+  foreach(_f utils.h finish.cpp lammps.cpp fix_contact_history_mesh.cpp
+             comm.cpp thermo.cpp mesh_module_stress.h)
+    file(READ "${src}/${_f}" _t)
+    if(_f STREQUAL "utils.h")
+      # GCC 12: int_to_string casts a temporary ostringstream to a reference.
+      _crush_patch(_t
+        "return static_cast< std::ostringstream & >(( std::ostringstream() << std::dec << a ) ).str();"
+        "std::ostringstream s; s << std::dec << a; return s.str();")
+    elseif(_f STREQUAL "finish.cpp")
+      # GCC 12: the pointer numneigh compared with > 0 (same truth value).
+      _crush_patch(_t
+        "if (neighbor->lists[m]->numneigh > 0) {"
+        "if (neighbor->lists[m]->numneigh != NULL) {")
+    elseif(_f STREQUAL "lammps.cpp")
+      # `-screen none` leaves screen NULL, but many LIGGGHTS messages (the STL
+      # reader among them) print to it unchecked and crash: send them to
+      # /dev/null, which is what `none` asks for.
+      _crush_patch(_t
+        "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = NULL;"
+        "else if (strcmp(arg[screenflag],\"none\") == 0)\n      universe->uscreen = fopen(\"/dev/null\",\"w\");")
+    elseif(_f STREQUAL "fix_contact_history_mesh.cpp")
+      # Mesh walls: every step, for every mesh, FixContactHistoryMesh::
+      # markAllContacts (called by fix wall/gran) cleared every page of the
+      # keep flags (memset of all pages, used or not) and took two page slots
+      # for every owned grain, also for the many with no triangle of that mesh
+      # in their neighbour list (nneighs 0), whose slots are never read: their
+      # contact history is empty after the page rebuild of a neighbour build
+      # (FixContactHistoryMesh::pre_force), handleContact sees only grains in
+      # a triangle's list, and cleanUpContacts, sort_contacts and n_contacts
+      # loop over nneighs or npartner (both 0). Clear only the slots handed
+      # out, and skip those grains (docs/performance.md, "Mesh walls"). Speed
+      # only: the same numbers to the last bit (docs/liggghts-patches.md).
+      _crush_patch(_t
+        "    keeppage_[0]->reset(true);
     intersectpage_[0]->reset(false);
 
     for(int i = 0; i < nlocal; i++)
@@ -135,7 +114,7 @@ function(prepare_liggghts_source src dst plugin_dir)
       if (!keepflag_[i] || !intersectflag_[i])
         error->one(FLERR,\"mesh contact history overflow, boost neigh_modify one\");
     }"
-    "    // crushable-grain package: only the slots handed out are cleared, and
+        "    // crushable-grain package: only the slots handed out are cleared, and
     // only grains with mesh neighbours get slots (the others' are never read)
     keeppage_[0]->reset(false);
     intersectpage_[0]->reset(false);
@@ -150,6 +129,13 @@ function(prepare_liggghts_source src dst plugin_dir)
         error->one(FLERR,\"mesh contact history overflow, boost neigh_modify one\");
       for(int j = 0; j < nneighs; j++) keepflag_[i][j] = false;
     }")
+    endif()
+    # comm.cpp, thermo.cpp (lost atoms) and mesh_module_stress.h (mesh force
+    # totals at the set-up of a run) were changed by earlier versions; those
+    # changes altered what stock decks print and are gone: these files are
+    # stock again (docs/liggghts-patches.md, "Changes that were dropped").
+    _crush_write_if_changed("${dst}/${_f}" "${_t}")
+  endforeach()
 
   # Contact-model combinations of our tangential models. `Make.sh models`
   # lists only the combinations of the stock models it finds in the build

@@ -21,6 +21,7 @@
 #include "crush_density_scale_kernel.h"
 #include "crush_energy.h"
 #include "crush_energy_kernel.h"
+#include "crush_error.h"
 #include "crush_fragment_kernel.h"
 #include "crush_stability_kernel.h"
 #include "crush_strength_kernel.h"
@@ -87,6 +88,23 @@ FixCrushParticle::FixCrushParticle(LAMMPS *lmp, int narg, char **arg) :
     error->all(FLERR, "fix crush/particle needs atom IDs (atom_modify id yes)");
 
   parse_args(narg, arg);
+
+  // A break whose fragments all go to fines lowers the atom count, which
+  // stock LIGGGHTS' `thermo_modify lost error` takes for lost atoms (it
+  // compares the count with that of the previous thermo output). The large
+  // fragments of every breakable grain (d >= d_comm) are kept, and every
+  // break adds atoms, exactly when d_frag_min <= 0.414 d_comm.
+  if (d_frag_min_ > large_fragment_ratio() * d_comm_ && comm->me == 0) {
+    char msg[1024];
+    snprintf(msg, sizeof(msg),
+             "fix crush/particle: d_frag_min %g > 0.414 d_comm = %g: grains finer than "
+             "d_frag_min/0.414 = %g break entirely into fines and the atom count drops, which "
+             "`thermo_modify lost error` reports as 'Lost atoms'; run such a deck with "
+             "`thermo_modify lost ignore` (this fix still stops the run when a grain is lost) "
+             "or keep d_frag_min <= 0.414 d_comm",
+             d_frag_min_, large_fragment_ratio() * d_comm_, d_frag_min_ / large_fragment_ratio());
+    error->warning(FLERR, msg);
+  }
 
   restart_global = 1;
   restart_peratom = 1;
@@ -358,6 +376,7 @@ void FixCrushParticle::assign_missing_strengths()
 
 void FixCrushParticle::setup_pre_exchange()
 {
+  count_atoms();  // before the set-up exchange: its losses are checked after it
   if (!(d_scale_ref_ > 0.0)) return;
   double n_scaled = 0.0, f_max = 1.0;
   for (int i = 0; i < atom->nlocal; i++) {
@@ -391,12 +410,14 @@ double FixCrushParticle::true_mass(int i) const
 
 void FixCrushParticle::setup_pre_neighbor()
 {
+  check_atom_count();
   assign_missing_strengths();
   full_scan_pending_ = true;
   nall_at_borders_ = atom->nlocal + atom->nghost;
 }
 void FixCrushParticle::pre_neighbor()
 {
+  check_atom_count();
   assign_missing_strengths();
   full_scan_pending_ = true;
   nall_at_borders_ = atom->nlocal + atom->nghost;
@@ -1148,36 +1169,57 @@ void FixCrushParticle::break_particles()
 }
 
 /* ----------------------------------------------------------------------
-   LIGGGHTS 3.8 checks for lost atoms only at thermo output, by comparing the
-   atom count with the previous output, and a break adds 13 atoms: a grain
-   lost in the same interval would go unnoticed (and `lost ignore` hides it
-   anyway). atom->natoms cannot tell either: Comm::exchange resets it to the
-   count present. So the fix keeps its own count, taken at setup and advanced
-   by what it creates and deletes, and checks it before each break (only then:
-   no cost on other steps). More atoms than counted (e.g. inserted by another
-   fix) are taken as they are; fewer are an error. A lost grain would also make
-   the mass balance and Br wrong.
+   Lost grains. Stock LIGGGHTS 3.8 looks for lost atoms only at thermo
+   output, by comparing the atom count with that of the previous output
+   (Comm::exchange recounts atom->natoms at every re-neighbouring), and only
+   under `thermo_modify lost error`: a break adds 13 atoms, so a grain lost
+   in the same interval would go unnoticed. The fix keeps its own count and
+   checks it after every exchange, where atoms leave the box (setup_pre_
+   neighbor and pre_neighbor), and before each break: natoms_counted_ atoms
+   with tags up to maxtag_ever_ must be there. The count is taken before the
+   set-up exchange of each run (atoms created or deleted by commands between
+   runs are accepted) and advanced by what the breaks create and delete.
+   Atoms that another fix inserts get new tags above maxtag_ever_ and are
+   taken into the count at the next check, so a loss in the same interval
+   as an insertion is still seen. Fewer atoms than counted stop the run: a
+   lost grain would also make the mass balance and Br wrong. Nothing of this
+   touches what stock LIGGGHTS counts or checks (docs/liggghts-patches.md).
 ------------------------------------------------------------------------- */
 
 void FixCrushParticle::count_atoms()
 {
   bigint nlocal = atom->nlocal;
   MPI_Allreduce(&nlocal, &natoms_counted_, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+  int maxtag_local = 0, maxtag_all;
+  for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
+  MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
+  maxtag_ever_ = std::max(maxtag_ever_, maxtag_all);
 }
 
 void FixCrushParticle::check_atom_count()
 {
-  const bigint expected = natoms_counted_;
-  count_atoms();
-  if (natoms_counted_ >= expected) return;
-  char msg[512];
-  snprintf(msg, sizeof(msg),
-           "fix crush/particle: " BIGINT_FORMAT " atoms lost before step " BIGINT_FORMAT
-           " (expected " BIGINT_FORMAT ", found " BIGINT_FORMAT "): grains left the simulation "
-           "box or were deleted during the run; the deck must not lose grains (the mass balance "
-           "and Br count every grain)",
-           expected - natoms_counted_, update->ntimestep, expected, natoms_counted_);
-  error->all(FLERR, msg);
+  const int nlocal = atom->nlocal;
+  const int *tag = atom->tag;
+  bigint local[2] = {0, nlocal}, all[2];  // atoms with known tags, all atoms
+  int maxtag_local = 0, maxtag_all;
+  for (int i = 0; i < nlocal; i++) {
+    if (tag[i] <= maxtag_ever_) local[0]++;
+    maxtag_local = std::max(maxtag_local, tag[i]);
+  }
+  MPI_Allreduce(local, all, 2, MPI_LMP_BIGINT, MPI_SUM, world);
+  MPI_Allreduce(&maxtag_local, &maxtag_all, 1, MPI_INT, MPI_MAX, world);
+  if (all[0] < natoms_counted_) {
+    char msg[1024];
+    snprintf(msg, sizeof(msg),
+             "fix crush/particle (fix %s): " BIGINT_FORMAT " atoms lost by step " BIGINT_FORMAT
+             " (expected " BIGINT_FORMAT ", found " BIGINT_FORMAT "): grains left the simulation "
+             "box or were deleted during the run; the deck must not lose grains (the mass balance "
+             "and Br count every grain)",
+             id, natoms_counted_ - all[0], update->ntimestep, natoms_counted_, all[0]);
+    crush_error_all(lmp, FLERR, msg);
+  }
+  natoms_counted_ = all[1];
+  maxtag_ever_ = std::max(maxtag_ever_, maxtag_all);
 }
 
 /* ---------------------------------------------------------------------- */

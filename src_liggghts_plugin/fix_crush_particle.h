@@ -166,7 +166,7 @@ class FixCrushParticle : public Fix {
   std::vector<double> J0_, J_fines_, U_;
   bool initialized_;
   int maxtag_ever_;
-  bigint natoms_counted_;  // atoms present at setup + created - deleted by breaks
+  bigint natoms_counted_;  // atoms at the last count or check + created - deleted by breaks
   double time_offset_;  // restores the simulation time after read_restart
   double restart_time_;
   bool restart_time_pending_;

@@ -186,9 +186,10 @@ def compression_scene(workdir, nx, ny, height, dmin, dmax, nsteps, speed=2.0,
     `extra` is appended to the fix crush/particle line (e.g. ' d_frag_min 2e-4').
     `lost` is the thermo_modify lost setting.  LIGGGHTS 3.8's lost check
     (Thermo::lost_check) reports lost atoms whenever the total count drops
-    between two thermo outputs, whatever atom->natoms says; with d_frag_min 0
-    every break adds 13 atoms, so 'error' catches real losses, but a grain
-    that goes entirely to fines (d_frag_min > 0) lowers the count on purpose.
+    between two thermo outputs; every break adds atoms while d_frag_min <=
+    0.414 d_comm, but above that a grain that goes entirely to fines lowers
+    the count on purpose (use 'ignore' then: fix crush/particle's own count
+    still stops a real loss, docs/liggghts-patches.md).
     """
     workdir = Path(workdir)
     workdir.mkdir(parents=True, exist_ok=True)

@@ -21,7 +21,9 @@ d. mass balance ("big": 8 x 8 columns, 694 grains, > 200 breaks): at every
    == sum over events of the kept fragments.  That run uses `thermo_modify
    lost ignore`: LIGGGHTS 3.8 reports 'Lost atoms' whenever the total count
    drops between two thermo outputs, which a grain going entirely to fines
-   does on purpose; the exact bookkeeping checks here stand in for it.
+   does on purpose (d_frag_min 0.25 mm > 0.414 d_comm); the fix's own count
+   (it stops on a real loss) and the exact bookkeeping checks here stand in
+   for it.
 e. rank independence ("small": 4 x 2 columns, the x < 0 half the mirror image
    of the x > 0 half, var 0, so the first two grains break in the same step,
    one on each rank): the first 10 events (steps, parent tags, F_n, positions)

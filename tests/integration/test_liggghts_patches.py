@@ -1,15 +1,29 @@
-"""Deck tests of the fixes this package applies to the LIGGGHTS 3.8 sources
-in the build tree (cmake/PrepareLiggghtsSource.cmake).
+"""Deck tests of the changes this package makes to the LIGGGHTS 3.8 sources in
+the build tree (cmake/PrepareLiggghtsSource.cmake, docs/liggghts-patches.md):
+a stock deck must run exactly as with stock LIGGGHTS. The decks here use
+stock styles only, so each is also run with Debian's stock binary
+(/usr/bin/liggghts, installed by scripts/setup; LIGGGHTS_STOCK_BIN for
+another) and must print the same thermo output to the last printed digit.
 
-mesh/surface/stress at the set-up of a run: stock LIGGGHTS adds the set-up
-wall forces on top of the previous step's summed total, so the first thermo
-row of every run read about twice the force on a mesh. Scene: one grain
-squeezed between a primitive bottom wall and a fixed mesh plate with the same
-overlap delta at both, so it stays at rest and the plate force is the Hertz
-force F = 4/3 E* sqrt(r delta) delta (independent answer).
+a. mesh/surface/stress at the set-up of a run. Stock LIGGGHTS adds the
+   set-up wall forces on top of the previous step's summed total, so the
+   set-up row of every later run reads the previous total plus the set-up
+   contacts (twice the force at one rank). An earlier version of this
+   package changed that in mesh_module_stress.h; the change altered what
+   stock decks print and was dropped: this build must print what stock
+   prints. Scene: one grain squeezed between a primitive bottom wall and a
+   fixed mesh plate with the same overlap delta at both, so it stays at rest
+   and the plate force is the Hertz force F = 4/3 E* sqrt(r delta) delta
+   (independent answer) during the runs, and 2 F at the set-up of a later
+   run at one rank (the reading of mesh_module_stress.cpp above).
+b. FixContactHistoryMesh::markAllContacts (the speed change, below).
+c. lammps.cpp, `-screen none`: stock crashes on a deck with a mesh (the STL
+   reader prints to the screen unchecked); this build runs it, with the same
+   output as with the screen sent to /dev/null.
 """
 
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -22,6 +36,26 @@ import harness  # noqa: E402
 
 D = 1.0e-3
 DELTA = 2.0e-6
+STOCK_BIN = Path(os.environ.get("LIGGGHTS_STOCK_BIN", "/usr/bin/liggghts"))
+
+
+def run_stock(monkeypatch, *args, **kwargs):
+    """harness.run_deck with Debian's stock binary."""
+    if not (STOCK_BIN.is_file() and os.access(str(STOCK_BIN), os.X_OK)):
+        pytest.fail("stock LIGGGHTS not found at %s: run scripts/setup (installs Debian's "
+                    "package liggghts), or set LIGGGHTS_STOCK_BIN" % STOCK_BIN)
+    with monkeypatch.context() as m:
+        m.setenv("LIGGGHTS_BIN", str(STOCK_BIN))
+        return harness.run_deck(*args, **kwargs)
+
+
+def assert_same_thermo(stock, build):
+    """Every thermo block of the two runs is the same, to the printed digit."""
+    a, b = stock.thermo, build.thermo
+    assert len(a) == len(b), (len(a), len(b))
+    for x, y in zip(a, b):
+        assert x.columns == y.columns
+        np.testing.assert_array_equal(x.data, y.data)
 
 
 def deck():
@@ -41,24 +75,38 @@ run             0
 """
 
 
-@pytest.mark.parametrize("nprocs", [1, 2])
-def test_mesh_force_at_setup_is_not_double_counted(tmp_path, nprocs):
+def _plate_scene(path):
     r = D / 2
     box = ((-2e-3, 2e-3), (-2e-3, 2e-3), (-1e-3, 3e-3))
-    cm.write_data(tmp_path / "grains.data", [(0.0, 0.0, r - DELTA, D)], box)
-    cm.write_plate_stl(tmp_path / "plate.stl", -2e-3, 2e-3, -2e-3, 2e-3)
-    res = harness.run_deck(deck(), tmp_path, nprocs=nprocs, extra_args=cm.MESH_ARGS, check=True)
+    cm.write_data(path / "grains.data", [(0.0, 0.0, r - DELTA, D)], box)
+    cm.write_plate_stl(path / "plate.stl", -2e-3, 2e-3, -2e-3, 2e-3)
+
+
+@pytest.mark.parametrize("nprocs", [1, 2])
+def test_mesh_force_at_setup_as_in_stock(tmp_path, monkeypatch, nprocs):
+    for which in ("build", "stock"):
+        (tmp_path / which).mkdir()
+        _plate_scene(tmp_path / which)
+    res = harness.run_deck(deck(), tmp_path / "build", nprocs=nprocs, extra_args=cm.MESH_ARGS,
+                           check=True)
+    stock = run_stock(monkeypatch, deck(), tmp_path / "stock", nprocs=nprocs,
+                      extra_args=cm.MESH_ARGS, check=True)
+    assert_same_thermo(stock, res)
     runs = [np.asarray(b["top[3]"]) for b in res.thermo]
     assert len(runs) == 3, res.summary()
 
+    r = D / 2
     e_star = 1.0 / ((1 - cm.NU_GRAIN ** 2) / cm.E_GRAIN + (1 - cm.NU_WALL ** 2) / cm.E_WALL)
     f_hertz = 4.0 / 3.0 * e_star * math.sqrt(r * DELTA) * DELTA
     # during the runs the plate is pushed up by the Hertz force (grain at rest)
     for fz in (runs[0][1:], runs[1][1:]):
         np.testing.assert_allclose(fz, f_hertz, rtol=1e-6)
-    # at the set-up of a following run: the last summed total, not twice it
-    assert runs[1][0] == runs[0][-1], (runs[1][0], runs[0][-1])
-    assert runs[2][0] == runs[1][-1], (runs[2][0], runs[1][-1])
+    # at the set-up of a later run, stock LIGGGHTS adds the set-up contacts
+    # of the rank that prints to the last summed total: twice the force at
+    # one rank (at two, it depends on which rank owns the grain)
+    if nprocs == 1:
+        np.testing.assert_allclose(runs[1][0], 2 * runs[0][-1], rtol=1e-12)
+        np.testing.assert_allclose(runs[2][0], 2 * runs[1][-1], rtol=1e-12)
 
 
 # ---------------------------------------------------------------------------
@@ -107,7 +155,7 @@ run             100
 
 
 @pytest.mark.parametrize("nprocs", [1, 2])
-def test_mesh_contact_history_lives_and_dies_with_the_contact(tmp_path, nprocs):
+def test_mesh_contact_history_lives_and_dies_with_the_contact(tmp_path, monkeypatch, nprocs):
     r = D / 2
     box = ((-2e-3, 2e-3), (-2e-3, 2e-3), (-1e-3, 3e-3))
     grains = [(0.8e-3, -0.5e-3, r - DELTA, D),               # on the plate
@@ -115,7 +163,14 @@ def test_mesh_contact_history_lives_and_dies_with_the_contact(tmp_path, nprocs):
     grains += [(x, y, 2.0e-3, D) for x in (-1.5e-3, 0.0, 1.5e-3) for y in (-1.5e-3, 1.5e-3)]  # far
     cm.write_data(tmp_path / "grains.data", grains, box)
     cm.write_plate_stl(tmp_path / "plate.stl", -2e-3, 2e-3, -2e-3, 2e-3)
+    (tmp_path / "stock").mkdir()
+    for name in ("grains.data", "plate.stl"):
+        (tmp_path / "stock" / name).write_bytes((tmp_path / name).read_bytes())
     res = harness.run_deck(slide_deck(), tmp_path, nprocs=nprocs, extra_args=cm.MESH_ARGS, check=True)
+    # the speed change gives what stock LIGGGHTS gives, to the printed digit
+    stock = run_stock(monkeypatch, slide_deck(), tmp_path / "stock", nprocs=nprocs,
+                      extra_args=cm.MESH_ARGS, check=True)
+    assert_same_thermo(stock, res)
     # no neighbour-list build while the grain goes up and down (runs 3, 4)
     builds = [int(line.split("=")[1]) for line in res.log.splitlines()
               if line.startswith("Neighbor list builds")]
@@ -131,9 +186,11 @@ def test_mesh_contact_history_lives_and_dies_with_the_contact(tmp_path, nprocs):
     # first run: the history grows by k_t v dt per step (the set-up row of a
     # run's first contact has neither the elastic nor the viscous part yet)
     np.testing.assert_allclose(np.diff(fx[0][1:]), 10 * per_step, rtol=1e-6)
-    # across the set-up of the next run it is kept (no update at set-up)
-    assert fx[1][0] == fx[0][-1]
-    np.testing.assert_allclose(np.diff(fx[1]), 10 * per_step, rtol=1e-6)
+    # across the set-up of the next run it is kept (no update at set-up): the
+    # next run goes on from where the first ended (its set-up row itself
+    # reads the previous total plus the set-up contacts, as in stock: a)
+    np.testing.assert_allclose(fx[1][1] - fx[0][-1], 10 * per_step, rtol=1e-6)
+    np.testing.assert_allclose(np.diff(fx[1][1:]), 10 * per_step, rtol=1e-6)
     # lifted off (after the first rows): no contact, no force
     assert np.all(fx[2][2:] == 0.0), fx[2]
     # back on the plate: a new contact whose history started from nothing
@@ -143,3 +200,22 @@ def test_mesh_contact_history_lives_and_dies_with_the_contact(tmp_path, nprocs):
     n_back = fx[4][-1] / per_step
     n_first = fx[0][-1] / per_step
     assert n_first < n_back < n_first + 40, (n_first, n_back)
+
+
+# ---------------------------------------------------------------------------
+# lammps.cpp: `-screen none`
+# ---------------------------------------------------------------------------
+
+def test_screen_none_runs_a_mesh_deck_as_with_a_screen(tmp_path, monkeypatch):
+    for which in ("none", "devnull", "stock"):
+        (tmp_path / which).mkdir()
+        _plate_scene(tmp_path / which)
+    # harness.run_deck passes -screen none; MESH_ARGS adds -screen /dev/null after it
+    none = harness.run_deck(deck(), tmp_path / "none", check=True)
+    devnull = harness.run_deck(deck(), tmp_path / "devnull", extra_args=cm.MESH_ARGS, check=True)
+    assert len(none.thermo) == 3
+    assert_same_thermo(devnull, none)
+    # the reason for the change: stock LIGGGHTS crashes there (the STL reader
+    # prints to the screen, which -screen none leaves unset)
+    stock = run_stock(monkeypatch, deck(), tmp_path / "stock")
+    assert stock.returncode != 0 and not stock.thermo, stock.summary()
