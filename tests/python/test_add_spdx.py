@@ -46,6 +46,9 @@ CASES = [
     ("examples/cpt_demo/in.cpt", b"variable a index 1", HASH + b"variable a index 1"),
     ("scripts/crushpost/empty.py", b"", HASH),
     ("scripts/only_shebang", b"#!/bin/bash", b"#!/bin/bash\n" + HASH),
+    # the tag quoted in a docstring is no SPDX line
+    ("scripts/crushpost/doc.py", b'"""Puts ``SPDX-License-Identifier: X`` lines."""\n',
+     HASH + b'"""Puts ``SPDX-License-Identifier: X`` lines."""\n'),
     # already there (anywhere in the first lines): untouched
     ("tests/unit/test_b.cpp", b"/* x */\n// SPDX-License-Identifier: GPL-2.0-or-later\nint a;\n",
      b"/* x */\n// SPDX-License-Identifier: GPL-2.0-or-later\nint a;\n"),
