@@ -187,9 +187,11 @@ def main(argv=None):
     # colour ranges of the shown (last) step, not of the first one; a range
     # of one value (say, every grain of generation 0) is widened by 1
     # (ParaView would stretch it to float's largest number)
+    if m is not None:
+        shown.append((m, MESH_ARRAYS[0]))
     for src, name in shown:
         src.UpdatePipeline(scene.EndTime)
-        info = src.PointData[name]
+        info = (src.CellData if src is m else src.PointData)[name]
         lo, hi = info.GetRange() if info is not None else (0.0, 0.0)
         lo += 0.0                           # -0.0 -> 0.0
         pv.GetColorTransferFunction(name).RescaleTransferFunction(lo, hi if hi > lo else lo + 1.0)
