@@ -19,7 +19,8 @@ generation) and the meshes (``post/meshes_<step>.vtk``: the chamber's walls
 and the pile's cone and shaft, with their normal_stress_average [Pa]).
 It builds three views side by side, with linked cameras, of the grains
 (spheres of their own radius) cut by the vertical plane y = 0 through the
-pile axis (whole grains kept), coloured by
+pile axis: the whole grains of the half y >= 0 (where the simulated sectors
+of 180 and 90 degrees lie), seen from -y, coloured by
 
 1. the mean stress p = (sp_xx + sp_yy + sp_zz) / 3 [kPa] ("p_kPa"),
 2. the strength sigma_lim [MPa] ("sigma_lim_MPa"),
@@ -130,11 +131,14 @@ def main(argv=None):
     import paraview.simple as pv
 
     g = pv.LegacyVTKReader(registrationName="grains", FileNames=grains)
-    # a vertical cut through the pile axis, keeping whole grains
+    # a vertical cut through the pile axis: the whole grains of the half
+    # y >= 0, where every sector the decks simulate lies (180: y >= 0; 90:
+    # x, y >= 0), seen from -y (Invert 0 keeps the side the normal points to)
     clip = pv.Clip(registrationName="cut y=0", Input=g)
     clip.ClipType = "Plane"
     clip.ClipType.Origin = [0.0, 0.0, 0.0]
     clip.ClipType.Normal = [0.0, 1.0, 0.0]
+    clip.Invert = 0
     clip.Crinkleclip = 1
     m = pv.LegacyVTKReader(registrationName="meshes", FileNames=meshes) if meshes else None
     # three cells side by side: split the whole (cell 0) at a third, then

@@ -1327,8 +1327,8 @@ def _paraview(rep, ctx):
     step = os.path.basename(grains[-1])
     rep.figures.append((name, "The grains in ParaView",
                         "The last VTK step (%s) drawn by ParaView (crushpost/paraview_state.py "
-                        "under scripts/pvbatch): the grains cut by the plane y = 0 through the "
-                        "pile axis (whole grains kept), coloured by the mean stress p = tr/3 "
+                        "under scripts/pvbatch): the whole grains of the half y >= 0 seen from -y, "
+                        "i.e. cut by the plane y = 0 through the pile axis, coloured by the mean stress p = tr/3 "
                         "(kPa, compression positive), the strength sigma_lim (MPa) and the "
                         "generation; the meshes coloured by their normal stress. The ParaView "
                         "state is paraview.pvsm (File > Load State)." % step))
