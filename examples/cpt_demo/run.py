@@ -499,7 +499,8 @@ def main(argv=None):
                    help="depths of the measurement spheres below the initial cone apex, in pile "
                    "radii (default 1 2.5); each sphere must lie wholly in the sand")
     p.add_argument("--vtk", default="none", choices=["none", "particles", "contacts"],
-                   help="VTK dumps for ParaView in post/: particles and meshes, or also the contact network")
+                   help="VTK dumps for ParaView in post/: particles and meshes, or also the contact "
+                        "network (crushpost report then draws them with ParaView: paraview.png)")
     p.add_argument("--vtk-every", type=int, default=20000, help="steps between VTK dumps")
     p.add_argument("--json", action="store_true",
                    help="print summary.json on stdout at the end (default: a few lines)")

@@ -6,10 +6,13 @@ reads what examples/cpt_demo/run.py (or a deck like it) leaves in RUN_DIR:
 jack.txt (fix jack/pile), breakage_events.txt (fix crush/particle),
 snapshots/prep_<step>.h5 and snapshots/jack_<step>.h5 (fix snapshot/hdf5 at
 the prepared state and at the end of every push and pause), spheres.in and
-spheres.txt (measurement spheres), log.liggghts and summary.json, and
-writes into DIR (default RUN_DIR/report): the figures (PNG), fields.h5
-(the numbers behind every figure; layout in docs/report.md) and
-report.html.
+spheres.txt (measurement spheres), log.liggghts, summary.json and the VTK
+series post/grains_<step>.vtk and post/meshes_<step>.vtk (--vtk particles),
+and writes into DIR (default RUN_DIR/report): the figures (PNG), fields.h5
+(the numbers behind every figure; layout in docs/report.md), report.html,
+and, where there is a VTK series, ParaView's picture of its last step
+(paraview.png; crushpost/paraview_state.py run by scripts/pvbatch) and
+ParaView's state (paraview.pvsm).
 
 Each part runs on the inputs it needs; a part whose input is missing is
 skipped and said so (in report.html and one line on stderr), so a run
@@ -29,6 +32,7 @@ import json
 import math
 import os
 import re
+import subprocess
 import sys
 import time
 
@@ -388,6 +392,7 @@ def make_report(run_dir, out_dir=None, opt=None, say=None):
     _states(rep, ctx)
     _breakage_map(rep, ctx)
     _spheres(rep, ctx)
+    _paraview(rep, ctx)
     _write_h5(rep, ctx)
     rep.settings.append(("report time", "%.1f s" % (time.time() - t0)))
     _write_html(rep, ctx, reference)
@@ -1414,6 +1419,47 @@ def _spheres(rep, ctx):
     rep.figure(fig, "spheres_q_over_p.png", "q/p' at the measurement spheres",
                "Stress ratio q/p' (q = sqrt(3 J2), p' = tr/3) of each measurement sphere "
                "(spheres.txt; radius %.3g mm) against its height above the apex." % (radius * 1e3))
+
+
+def _paraview(rep, ctx):
+    # the run's VTK series (--vtk particles) drawn by ParaView itself:
+    # paraview_state.py under scripts/pvbatch (docs/report.md, "ParaView")
+    from . import paraview_state
+    grains = paraview_state.grain_files(rep.run)
+    if not grains:
+        rep.skip("ParaView picture", "no %s (run with --vtk particles)"
+                 % os.path.join(rep.run, paraview_state.GRAINS_GLOB))
+        return
+    wrapper = paraview_state.wrapper()
+    if not os.path.isfile(wrapper):
+        rep.skip("ParaView picture", "%s: no such file (ParaView's wrapper, docs/install.md)"
+                 % wrapper)
+        return
+    name = "paraview.png"
+    png = os.path.join(rep.out, name)
+    if os.path.exists(png):
+        os.remove(png)
+    t0 = time.time()
+    try:
+        res = paraview_state.render(rep.run, png=png, state=os.path.join(rep.out, "paraview.pvsm"))
+    except (OSError, subprocess.TimeoutExpired) as exc:
+        rep.skip("ParaView picture", "%s: %s" % (wrapper, exc))
+        return
+    if res.returncode != 0 or not os.path.isfile(png):
+        last = [line for line in (res.stderr or "").splitlines() if line.strip()][-1:]
+        rep.skip("ParaView picture", "%s exited %d%s" % (wrapper, res.returncode,
+                                                         (": " + last[0]) if last else ""))
+        return
+    rep.settings.append(("ParaView picture", "%d VTK steps, %.1f s" % (len(grains),
+                                                                       time.time() - t0)))
+    step = os.path.basename(grains[-1])
+    rep.figures.append((name, "The grains in ParaView",
+                        "The last VTK step (%s) drawn by ParaView (crushpost/paraview_state.py "
+                        "under scripts/pvbatch): the whole grains of the half y >= 0 seen from -y, "
+                        "i.e. cut by the plane y = 0 through the pile axis, coloured by the mean stress p = tr/3 "
+                        "(kPa, compression positive), the strength sigma_lim (MPa) and the "
+                        "generation; the meshes coloured by their normal stress. The ParaView "
+                        "state is paraview.pvsm (File > Load State)." % step))
 
 
 # ---------------------------------------------------------------------------
