@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Copies LIGGGHTS' src/ into the build tree, applies the fixes that GCC 12
 # needs there, and writes the style_*.h registries (what `Make.sh style` does)
 # so that they list the stock styles and ours from src_liggghts_plugin/.

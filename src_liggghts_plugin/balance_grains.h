@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    balance/grains: static load balancing for LIGGGHTS 3.8. Moves the cuts
    of the processor grid (comm->xsplit/ysplit/zsplit) to the quantiles of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    compute crush/atom: per-particle state of fix crush/particle. See the
    header and docs/compute_crush_atom.md.

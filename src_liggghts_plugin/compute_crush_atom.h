@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    compute crush/atom: the per-particle state of a fix crush/particle as a
    per-atom array, for dumps, snapshots and atom-style variables:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    compute stress/grain: per-particle stress over every contact (SPEC
    section 4 item 7). See the header and docs/compute_stress_grain.md.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    The keyword parser every style of the plugin uses: walks the keyword /
    value list of a fix or compute command, and stops the run with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Keyword arguments of the plugin's styles: reading and checking one value
    at a time. Every function returns an empty string when the value is
    good, else the error message (without the style's name in front; the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Cut placement of command balance/grains (static load balancing): pure
    functions of a histogram of the grains along one dimension of the box;
    no LIGGGHTS dependency; unit-tested in tests/unit/test_balance_kernel.cpp.

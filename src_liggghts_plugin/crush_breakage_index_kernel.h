@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Einav (2007) breakage index Br = B_t / B_p (SPEC section 2) for a discrete
    grading plus unresolved fines, bounded to [0, 1]. Stateless kernels with no
    LIGGGHTS dependency, unit-tested in tests/unit/test_breakage_index_kernel.cpp;

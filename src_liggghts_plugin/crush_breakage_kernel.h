@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Grain breakage model of SPEC section 2 (Russell & Muir Wood criterion,
    size effect with scatter, Rayleigh time): stateless kernels with no
    LIGGGHTS dependency, unit-tested in tests/unit/test_breakage_kernel.cpp. */

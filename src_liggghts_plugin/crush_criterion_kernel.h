@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Readings of the breakage criterion (fix crush/particle keywords pressure,
    force, size_law): stateless kernels with no LIGGGHTS dependency,
    unit-tested in tests/unit/test_criterion_kernel.cpp. The printed

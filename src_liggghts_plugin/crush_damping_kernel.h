@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Local (non-viscous) damping of PFC, SPEC section 2.
    Stateless kernels, no LIGGGHTS dependency; unit-tested in tests/unit. */
 

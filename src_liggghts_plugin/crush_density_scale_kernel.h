@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Density scaling of fine particles (fix crush/particle keyword
    density_scale D_REF): a stateless kernel with no LIGGGHTS dependency,
    unit-tested in tests/unit/test_density_scale_kernel.cpp.

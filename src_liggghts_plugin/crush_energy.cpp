@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    Energy accounting of breaks (see crush_energy.h). The contact energies
    are those of crush_energy_kernel.h.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    Energy accounting of breaks for fix crush/particle (keyword energy, off
    by default; docs/fix_crush_particle.md "Energy accounting",

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Energy accounting of breaks (docs/fix_crush_particle.md, keyword energy;
    docs/stability.md): elastic energy stored in a Hertz-Mindlin contact as
    LIGGGHTS 3.8 models it (`pair_style gran model hertz tangential history`),

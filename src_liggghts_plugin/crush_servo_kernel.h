@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Radial servo of a cylindrical mesh wall (fix servo/radial, SPEC section 4
    item 4): radial directions, the wall's radial stress from per-element
    forces, the servo velocity and the radial scale factor.

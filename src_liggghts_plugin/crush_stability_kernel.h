@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Time step over the stiffest contact and the cheap blow-up signals of
    fix check/stability (docs/stability.md, "Time step and blow-up
    detection"): stateless kernels with no LIGGGHTS dependency, unit-tested

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Strength scatter laws (fix crush/particle keywords scatter and f_min):
    the factor f_p of sigma_lim = sigma_lim0 f_p (d / (N d0))^(-3/m), drawn
    once per particle from the seed and the particle's tag (so draws do not

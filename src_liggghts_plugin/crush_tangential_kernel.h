@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Incremental (force-based) tangential contact update of PFC's Hertz model,
    docs/tangential_incremental.md. The contact stores the tangential FORCE
    and adds -k_t v_t dt to it with the current stiffness k_t, so a fall of

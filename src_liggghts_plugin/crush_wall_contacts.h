@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    The one loop over the particles near the granular walls, for the two
    places that look at wall contacts themselves:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix check/stability: see the header and docs/fix_check_stability.md.
    The tests are crush_stability_kernel.h (unit-tested).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix check/stability: stops a run that goes numerically unstable, with an
    error naming the step, the particle and the likely cause, before atoms

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix crush/particle: crushable grains (SPEC section 2). See the header and
    docs/fix_crush_particle.md. The model math lives in crush_*_kernel.h.

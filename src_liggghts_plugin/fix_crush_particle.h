@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix crush/particle: crushable grains (SPEC section 2).
    Russell & Muir Wood criterion on every particle-particle and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix damp/local: PFC-style local (non-viscous) damping,
    F_i <- F_i - alpha |F_i| sign(v_i) on each translational component;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix jack/pile: jacking controller of a rigid pile made of two meshes
    (cone tip and shaft, each a fix mesh/surface/stress). It does not move the

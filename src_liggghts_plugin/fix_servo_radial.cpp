@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix servo/radial: radial stress servo of a cylindrical mesh wall
    (SPEC section 4 item 4). See the header and docs/fix_servo_radial.md.

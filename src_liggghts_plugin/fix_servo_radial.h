@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix servo/radial: servo-controls the radius of a cylindrical mesh wall
    (fix mesh/surface/stress, vertical facets around an axis parallel to z)

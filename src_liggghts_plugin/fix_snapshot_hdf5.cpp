@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix snapshot/hdf5: HDF5 snapshots of particles and contacts at events of
    a trigger quantity, e.g. at the end of every push and every pause of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix snapshot/hdf5: event-triggered HDF5 snapshots of particles and
    contacts. Every step it evaluates one global scalar (the trigger, e.g. the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 /* Tangential contact model `incremental` (docs/tangential_incremental.md):
    the tangential force of PFC's Hertz model. The contact stores the
    tangential FORCE (3 history values), turns it onto the current contact

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Cost of breaking: fix crush/particle while hundreds of grains break, against
 stock LIGGGHTS on the same packings (issue 13 item 3; docs/performance.md,
 "Breaking: what a break step costs").

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Figures and tables of docs/calibration.md from bench/calibration/results/*.json.
 
     /usr/bin/python3 bench/calibration/plots.py [--img docs/img] [--markdown]

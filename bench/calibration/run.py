@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Calibration study (issue 14): triaxial element tests at the target density,
 specimen size against seed-to-seed scatter, and the candidates that could put
 the DEM response off the published NE34 one.

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Criterion readings: which convention of the breakage criterion puts the
 crushing where the paper found it (docs/studies/criterion-readings.md).
 

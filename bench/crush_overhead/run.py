@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Overhead of fix crush/particle against stock LIGGGHTS (docs/performance.md).
 
     /usr/bin/python3 bench/crush_overhead/run.py [--cells 18 18 16] [--steps 3000]

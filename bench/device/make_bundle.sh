@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Pack build/liggghts with every shared library it and Open MPI need (glibc
 # and the dynamic loader included) into one relocatable tarball, so that the
 # benchmarks can run on a machine that has neither LIGGGHTS nor MPI (the

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: GPL-2.0-or-later
 # Wall-clock rates of the chamber slice of bench/icount (117,170 grains, the
 # paper chamber's radius) at 1 to 16 ranks, balanced by balance/grains and
 # not, on a machine with at least 16 free cores (docs/performance.md

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Merge the JSON files of bench/device/scaling_wall.sh (one folder per call,
 each holding the `results.tgz` it returned, unpacked) into one results file
 with the medians per rank count and grid (docs/performance.md "Wall-clock

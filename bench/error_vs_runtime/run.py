@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Error against run time: what each cost saving gives up (docs/error-vs-runtime.md).
 
     python3 bench/error_vs_runtime/run.py --list            # the pieces and their state

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Extreme loading and the energy budget of breaks (issue 12, items 1 and 3;
 docs/stability.md, "Energy of breaks" and "Extreme loading").
 

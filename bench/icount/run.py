@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Instruction counts per rank, per component and per feature of the chamber
 in its jacking phase (docs/performance.md "Instruction counts").
 

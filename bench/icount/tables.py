@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Markdown tables of docs/performance.md ("Instruction counts") from the
 JSON files of bench/icount/run.py.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Where do grains leave the calibration chamber? (docs/cpt.md, "Lost grains")
 
     /usr/bin/python3 bench/lost_grains/run.py --out results/lost_grains/old --hole 1.25

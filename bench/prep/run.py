@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Preparation study (docs/preparation.md): how close the chamber preparation
 gets to the paper's initial state, and what it costs.
 

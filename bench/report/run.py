@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Benchmark of the report's heaviest step (issue 10 item 7): one snapshot of
 500,000 particles and 2,000,000 contacts reduced to ring stresses.
 

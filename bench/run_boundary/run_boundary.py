@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """How much a run boundary (a split `run`, or write_restart + read_restart)
 perturbs a crushing compression (docs/stability.md, "Parallel edge cases").
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Cost of fix check/stability per step, in instructions (docs/stability.md,
 "Time step and blow-up detection").
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Cone pile jacked into crushable sand in a reduced calibration chamber.
 
     examples/cpt_demo/run.py --out results/demo [--np 2] [--mode cyclic|monotonic]

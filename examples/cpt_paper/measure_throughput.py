@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Throughput of the chamber deck in its jacking phase (crushable grains), for
 the cost estimate of the paper runs in docs/cpt.md.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Oedometer scene: build the initial packing, run LIGGGHTS, post-process.
 
     examples/oedometer/run.py --out results/oedometer [--np 2] [--grains unbreakable]

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Drained triaxial compression scene: build the initial packing (and, for the
 cell with rigid plates, the six plates), run LIGGGHTS, post-process.
 

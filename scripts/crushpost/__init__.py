@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost: post-processing of crushable-sand DEM runs (LIGGGHTS plugin).
 
 Pure functions on numpy arrays; see each module for units and conventions.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Einav (2007) relative breakage index Br from a discrete particle-size
 distribution plus the fines of the breaks; the same definition as
 ``fix crush/particle`` (docs/fix_crush_particle.md, "Breakage index").

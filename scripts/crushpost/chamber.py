@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Input files of the calibration chamber decks (examples/cpt_demo,
 examples/cpt_paper): the loose packing and the meshes read by
 inputs/chamber_walls.in, for the full chamber or a sector of it.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Command line of crushpost: ``crushpost {br,fit-qc,thermo,pile,spheres,merge-parts,report} ...``."""
 
 import argparse

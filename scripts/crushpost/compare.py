@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Two chamber runs side by side (``crushpost compare RUN_A RUN_B``): the
 q_c ratio and the difference in crushing, e.g. the demo with unbreakable
 grains against the demo with crushable ones.

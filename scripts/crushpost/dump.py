@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Readers for LAMMPS/LIGGGHTS text dumps and for the crush event log.
 
 Dump snapshots are dicts::

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Fields of a chamber run that the report draws (issue 10 items 2-3): stress
 quantities of ring-averaged tensors, profiles at chosen heights above the
 tip, radial displacement increments, the density of breakage events

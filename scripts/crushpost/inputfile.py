@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Reading a user's file with every failure turned into one line that names
 the file and says what is wrong (the command line and the report print it
 instead of a traceback)."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """ASCII STL meshes for LIGGGHTS walls (fix mesh/surface): plates, cylinder
 walls, and the cone-ended pile (cone tip and shaft as separate meshes).
 Normals follow the right-hand rule of each facet."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Oedometer (one-dimensional compression) results: the loading/unloading path
 from the thermo output of examples/oedometer/in.oedometer, grading curves from
 its particle dumps, HDF5 output and the standard plots.

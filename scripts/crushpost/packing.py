@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Initial grain assemblies: the NE34 grading shape and random loose packings.
 
 The grading of Fontainebleau NE34 (SPEC section 3: d50 = 0.21 mm, coefficient

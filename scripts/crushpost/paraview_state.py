@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Open a chamber run's VTK series in ParaView (issue 10 item 5).
 
 Run it with ParaView's Python (not /usr/bin/python3)::

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The jacked pile: the time series of ``fix jack/pile`` (``file`` keyword),
 the tip's position, and points (breakage events) located relative to the tip.
 

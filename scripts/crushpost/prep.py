@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The prepared sample (SPEC section 4 items 1 and 7; docs/preparation.md):
 porosity of the whole sample and of its core, coordination number, and the
 ring statistics of the stress that the source paper reports for its chamber

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Progress of a chamber scene while LIGGGHTS runs (issue 10 item 4).
 
 :class:`ChamberProgress` reads what the deck writes as it goes (the

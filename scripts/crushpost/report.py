@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The analyses of a chamber run from one command (issue 10):
 
     crushpost report RUN_DIR [--out DIR] [--reference FILE]

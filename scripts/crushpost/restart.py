@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """A chamber run in parts: going on from restart files (docs/cpt.md
 "Restarting a run").
 

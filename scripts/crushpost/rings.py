@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Ring averages of a chamber in one vectorised pass (issue 10 item 1).
 
 Rings are annuli about the pile axis (the z axis through ``axis_xy``):

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Direction of the major principal stress in the (r, z) plane and its
 rotation through a run (issue 10 item 2).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Run a LIGGGHTS deck of this package under mpirun, as the example drivers
 (examples/*/run.py) do.
 

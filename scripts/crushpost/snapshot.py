@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Reader for the HDF5 snapshots of ``fix snapshot/hdf5`` (docs/fix_snapshot_hdf5.md).
 
 One file per snapshot, ``PREFIX_<step>.h5``. :func:`read_snapshot` returns::

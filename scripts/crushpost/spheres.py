@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Measurement spheres (SPEC section 4 item 6) as a LIGGGHTS deck block.
 
 The stress in a sphere of volume V is sigma = (1/V) sum_c F^c (x) L^c over its

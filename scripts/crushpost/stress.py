@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Stress measures of the field: invariants, cylindrical components, particle
 and measurement-sphere stresses, and ring volume averages (SPEC 4.6, 4.7).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Error against run time: the pure functions of bench/error_vs_runtime.
 
 A study runs one reference setting and variants that change one thing at a

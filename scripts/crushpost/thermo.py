@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Thermo output of LIGGGHTS / LAMMPS log files (one-line thermo style).
 
 A block starts at a line whose first word is ``Step`` and ends at the line

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Trend fit of tip resistance against depth, ``q_c(h) = a (1 - exp(-b h))`` (SPEC 4.5).
 
 ``a`` is the steady-state tip resistance (same unit as ``q_c``, e.g. Pa) and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Drained triaxial compression: the shearing path from the thermo output of
 examples/triaxial/in.triaxial, its standard measures, HDF5 output and plots.
 

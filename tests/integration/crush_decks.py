@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck builders and independent analytic answers for the deck-level tests of
 `fix crush/particle` (SPEC sections 2 and 5).
 

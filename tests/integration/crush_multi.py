@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Multi-grain scenes for the deck tests of `fix crush/particle`
 (test_crush_parallel.py): deterministic packings written as LAMMPS data files,
 a square STL platen, and the common deck header.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Every deck must make lost atoms an error (issue 5 item 6).
 
 LIGGGHTS 3.8 ignores lost atoms by default (`thermo_modify lost ignore`), and

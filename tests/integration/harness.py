@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Shared helpers for deck-level integration tests of the LIGGGHTS plugin styles.
 
 Every test writes its input deck inline, runs it in its own pytest ``tmp_path``

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """A small cylindrical cell of NE34-shaped grains settled under 100 g, shared
 by the deck tests of the pile styles (test_jack_pile.py, test_snapshot_hdf5.py).
 

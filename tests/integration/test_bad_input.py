@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Malformed command lines for every style of the plugin (issue 12, item 5).
 
 Each style parses its keywords with the shared parser (crush_args.h). Every

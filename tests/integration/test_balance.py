@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of the command `balance/grains` (static load balancing,
 issue 13 item 1; docs/balance_grains.md).
 

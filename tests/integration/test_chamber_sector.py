@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Chamber sectors (issue 5 item 1): a quarter of the calibration chamber,
 grains in x, y >= 0 between the rigid frictionless symmetry planes x = 0 and
 y = 0 (inputs/chamber_sym_90.in: planar meshes of material type 4 written by

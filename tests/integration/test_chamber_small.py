@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """A small calibration chamber with a cyclically jacked pile (issue 5 item 7),
 through examples/cpt_demo/run.py at 2 MPI ranks: the top servo holds its
 stress, the radial servo reaches its target, every cyclic pause reaches zero

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of the breakage index of `fix crush/particle` and of its
 atom-count check (SPEC section 2; docs/fix_crush_particle.md).
 

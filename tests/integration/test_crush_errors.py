@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Bad input to `fix crush/particle` gets a clear error naming the keyword,
 and the time-step check of SPEC section 5 (dt_check warn|error, dt_frac).
 

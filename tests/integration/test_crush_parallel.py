@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix crush/particle` in multi-grain compressions, at 1
 and 2 MPI ranks (SPEC section 2: exact mass accounting "at every step, on any
 rank count"; draws that do not depend on the number of ranks).

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck tests of the criterion readings, the per-atom outputs and the fragment
 velocities under density scaling of `fix crush/particle` / `compute crush/atom`.
 

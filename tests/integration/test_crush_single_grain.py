@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix crush/particle` on one or two grains (SPEC section 2).
 
 Every expected number is computed here in Python from the SPEC formulas

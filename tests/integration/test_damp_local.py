@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix damp/local` (PFC-style local damping, SPEC section 2).
 
     F_i <- F_i - alpha * |F_i| * sign(v_i),   sign(0) = 0,   0 <= alpha < 1

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Density scaling of fine particles, `fix crush/particle ... density_scale
 D_REF` (issue "Error against run time", item 1).
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Energy accounting of breaks (`fix crush/particle ... energy yes`,
 docs/fix_crush_particle.md "Energy accounting", docs/stability.md).
 

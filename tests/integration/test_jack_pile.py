@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix jack/pile`, the jacking controller of the pile
 (SPEC section 4 item 5), driving the cone and shaft meshes written by
 crushpost.meshes through stock `fix move/mesh ... linear/variable`.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck tests of the changes this package makes to the LIGGGHTS 3.8 sources in
 the build tree (cmake/PrepareLiggghtsSource.cmake, docs/liggghts-patches.md):
 a stock deck must run exactly as with stock LIGGGHTS. The decks here use

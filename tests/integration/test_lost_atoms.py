@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Lost atoms (issue 5 item 6, issue 42 item 1).
 
 a. A plain deck (no fix crush/particle) runs exactly as with stock LIGGGHTS

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Measurement spheres (SPEC section 4 item 6, issue 5 item 7): in a homogeneous,
 isotropically compressed packing a sphere reads the boundary stress within 10 %,
 at 2 MPI ranks.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Parallel edge cases of `fix crush/particle` (issue 12, item 4; results in
 docs/stability.md, section "Parallel edge cases").
 

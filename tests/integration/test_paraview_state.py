@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The ParaView state script (scripts/crushpost/paraview_state.py) under
 ParaView itself, headless (issue 43): Debian's pvbatch, unpacked by
 scripts/setup into build/paraview beside python3-vtk9, run offscreen under
@@ -49,6 +50,8 @@ from crushpost import paraview_state  # noqa: E402
 from crushpost.meshes import (cylinder_triangles, plate_triangles, rectangle_triangles,  # noqa: E402
                               write_pile_stl, write_stl)
 from crushpost.packing import ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
+
+CTEST_TIMEOUT = 2200   # ctest's budget: the LIGGGHTS run (600 s), a render (600 s), the report (900 s)
 
 PVBATCH = REPO / "scripts" / "pvbatch"
 STATE_SCRIPT = REPO / "scripts" / "crushpost" / "paraview_state.py"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Sample preparation of the calibration chamber (SPEC section 4 items 1 and
 4; docs/preparation.md): examples/cpt_demo/in.cpt with the jacking left out
 (jacking_block none), i.e. inputs/chamber_core.in, prepare_expand.in and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """``python3 -m crushpost report`` on a real LIGGGHTS run (issue 10 items 1-5):
 a small cell of NE34-shaped grains settled under 100 g (tests/integration/
 pile_cell.py), a cone pile jacked in cyclically at 2 MPI ranks with weak

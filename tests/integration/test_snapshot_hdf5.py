@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix snapshot/hdf5`: HDF5 snapshots of particles and
 contacts at the end of every push and every pause of the cyclic jacking of
 `fix jack/pile`.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Time step over the stiffest contact (fix crush/particle, keyword dt_omega)
 and blow-up detection (fix check/stability); docs/stability.md, "Time step
 and blow-up detection".

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Stock decks run as in stock (issue 42 item 1; docs/liggghts-patches.md).
 
 Every deck of LIGGGHTS 3.8's own tutorials (examples/LIGGGHTS/Tutorials_public

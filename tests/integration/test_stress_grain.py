@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """`compute stress/grain`: the per-particle stress of SPEC section 4 item 7,
 sigma_p = -(1/V_p) sum_c s^c (x) F^c over every contact, walls included
 (docs/compute_stress_grain.md), as the chamber decks define it

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """A symmetry plane of a chamber sector acts exactly as the mirror image of the
 grain touching it (SPEC section 4 item 4, issue: a grain pressed against a
 plane of material type 3 broke at 22 % more platen force than against its

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """`tangential incremental` (docs/tangential_incremental.md) against the
 analytic answer, and against `tangential history` on the same path.
 

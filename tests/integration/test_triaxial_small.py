@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level test of the drained triaxial scene (examples/triaxial/in.triaxial,
 SPEC section 4 item 3) on a small specimen.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Where the numbers the README and docs/ quote from runs come from (issue 42
 item 6): one entry per quoted number, read by tests/python/test_doc_numbers.py.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """scripts/add_spdx (issue 43) puts the licence line into each kind of source
 file with that language's comment, after a shebang and a Python encoding
 line, and changes nothing else, byte for byte; a second run changes

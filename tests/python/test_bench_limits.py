@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The benchmarks that state a limit check it and exit 1 when it is missed
 (issue 42 item 5): each script's limit_failures on small synthetic results,
 on the committed results files (what the docs say of them), and the report

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.pile.break_zones on a synthetic event set with a known answer."""
 
 import math

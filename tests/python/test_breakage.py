@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Breakage index: exact step-grading integral against quadrature and closed forms."""
 
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Input files of the chamber decks: sector meshes, sector packings and the
 vectorised random sequential addition (crushpost.chamber, crushpost.packing,
 crushpost.meshes). Checked against brute-force geometry."""

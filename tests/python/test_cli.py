@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Command line through main() in-process, and once through python3 -m crushpost."""
 
 import json

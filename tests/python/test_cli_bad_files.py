@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Missing, empty, truncated and corrupt files given to the crushpost command
 line: one line on stderr that names the file and what is wrong, exit status
 1, no traceback; and crushpost.snapshot.read_snapshot on bad HDF5 files."""

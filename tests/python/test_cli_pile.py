@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost fit-qc on a fix jack/pile series (virgin penetration only) and
 the top-wall hole reported by crushpost pile."""
 

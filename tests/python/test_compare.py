@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost compare on two synthetic run folders with known answers."""
 
 import json

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """examples/cpt_demo/run.py postprocess() on a synthetic run folder: events
 placed relative to the real tip (z_ref - depth, z_ref = the sand surface
 from jack.txt's header, not the initial apex), the q_c fit on virgin

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """ctest's TIMEOUT of each deck test file fits the file's own time budget
 (issue 42 item 5). Every LIGGGHTS or driver run inside a test has its own
 timeout, which says which run hung; the file's ctest TIMEOUT is a backstop

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The numbers README.md and docs/ quote from runs match the committed
 results files they come from (issue 42 item 6): the registry
 tests/python/doc_numbers.py lists each quote, its file and its key. A

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Text dump and crush event log readers on synthetic files."""
 
 import gzip

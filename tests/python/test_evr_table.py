@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """bench/error_vs_runtime/run.py: its tables (a chamber run whose q_c fit
 did not level off is flagged and kept off the Pareto front, issue 11) and
 its claims on pieces."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """No grain can leave the chamber through the top wall's hole for the pile
 (issue 5 item 6): measured on the mesh files write_chamber writes, the gap
 between the shaft and the hole is narrower than the smallest fragment that

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost installs with pip as a user would (pyproject.toml): into a fresh
 virtual environment that sees the system's numpy, scipy, h5py and
 matplotlib, from a copy of the repository's Python sources, with nothing

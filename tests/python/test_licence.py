@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """The licence (issue 43): LICENSE holds the GNU GPL version 2 text, README's
 Licence section says GPL-2.0-or-later, and every source file carries an
 ``SPDX-License-Identifier: GPL-2.0-or-later`` line in its first five lines,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Pile meshes (crushpost.meshes): the 60-degree cone tip and the cylindrical
 shaft as separate ASCII STL files (SPEC section 4 item 5), and the CLI entry
 ``python3 -m crushpost pile``.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.oedometer.crushing_onset on synthetic loading paths."""
 
 import math

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.pile: the jack/pile series with its depth reference, the tip
 position, and points placed relative to the tip, on synthetic data with
 known answers."""

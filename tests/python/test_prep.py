@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Preparation statistics (crushpost.prep, the ring functions of
 crushpost.stress) on synthetic data with known answers: ring edges, ring
 averages of a uniform field (mean = solid fraction x stress, sd = 0), the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """scripts/pvbatch, the wrapper that runs ParaView headless (issue 43), with
 a stand-in for ParaView (CRUSH_PARAVIEW_ROOT/usr/bin/pvbatch, a shell
 script that counts its runs): it runs under an X display of its own with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """``python3 -m crushpost report`` on a synthetic run folder laid out as
 examples/cpt_demo/run.py leaves it (issue 10 items 3, 4 and 8): every
 figure and fields.h5 group is made, known inputs come back (the q_c trend,

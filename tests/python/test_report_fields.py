@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Known answers for the report's building blocks (issue 10 item 6):
 crushpost.rings (sphere-ring volumes, ring averages), crushpost.rotation,
 crushpost.fields."""

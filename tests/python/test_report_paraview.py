@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost report's ParaView picture (issue 43), with a stand-in for
 scripts/pvbatch (CRUSH_PVBATCH, a shell script that logs its arguments and
 copies a known PNG to its --png argument): a run with a VTK series gets

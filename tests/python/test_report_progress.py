@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.progress: the lines a chamber driver prints while LIGGGHTS runs
 (issue 10 item 4), on a run folder whose files grow as a deck's would."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.restart: a chamber run in parts, merged as if it had not stopped
 (synthetic series with known answers)."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.runner: the mpirun command line of the example drivers."""
 
 from crushpost.runner import mpirun_command

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """bench/device/summarise_scaling_wall.py: medians per rank count and grid,
 efficiency against the 1-rank median, and runs that were not static (a
 neighbour-list build or a break in the timed steps) left out."""

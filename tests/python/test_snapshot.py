@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.snapshot on synthetic files written with h5py in the layout of
 fix snapshot/hdf5 (docs/fix_snapshot_hdf5.md), with known answers."""
 

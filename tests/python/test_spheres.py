@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Measurement-sphere deck block (crushpost.spheres) and `python3 -m crushpost spheres`."""
 
 import json

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Stress invariants, cylindrical components, particle/sphere stresses, ring averages."""
 
 import numpy as np

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.study (bench/error_vs_runtime) on synthetic numbers with known answers."""
 
 import math

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """Thermo blocks of a synthetic LIGGGHTS log with warnings and several runs."""
 
 import numpy as np

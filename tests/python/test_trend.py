@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """q_c(h) = a (1 - exp(-b h)) fit on synthetic data with known parameters."""
 
 import numpy as np

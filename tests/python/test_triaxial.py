@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """crushpost.triaxial on synthetic triaxial paths with known answers."""
 
 import json

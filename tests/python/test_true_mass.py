@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
 """True mass under density scaling (issue: "True mass everywhere").
 
 The same grains give the same Br (crushpost br) and the same grading curves

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Unit tests for crush_breakage_index_kernel.h (SPEC section 2, Einav 2007
 // breakage index). The closed forms are checked against direct numerical
 // quadrature over ln d of the grading curves they integrate.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Unit tests for crush_breakage_kernel.h (SPEC sections 2 and 5): Russell &
 // Muir Wood limit force, Hertz contact, size effect, seeded strength scatter,
 // Rayleigh time. Every expected value is derived independently of the kernel

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Criterion readings (crush_criterion_kernel.h) against the Hertz formulas of
 // crush_breakage_kernel.h: each factor makes the reading's pressure or force
 // equal to sigma_lim at F_lim k.

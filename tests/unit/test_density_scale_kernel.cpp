@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Density scaling of fine particles (crush_density_scale_kernel.h) against the
 // Rayleigh time of crush_breakage_kernel.h: a scaled particle finer than
 // d_ref has the Rayleigh time of a d_ref particle.

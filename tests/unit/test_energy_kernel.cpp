@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Unit tests for crush_energy_kernel.h: the elastic energy of a Hertz contact
 // is checked against the numerical integral of the Hertz force (the force
 // kernel of crush_breakage_kernel.h is independent of the energy formula),

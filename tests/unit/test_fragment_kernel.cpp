@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Unit tests for crush_fragment_kernel.h (SPEC section 2): 14-sphere
 // Apollonian fragmentation and the seeded random rotation of its frame.
 // Geometry is checked from the returned radii and centres (tangency, no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Stiffest-contact bound and blow-up signals (crush_stability_kernel.h)
 // against independent answers: the numerical derivative of the Hertz force,
 // the breakage-limit overlap of crush_breakage_kernel.h and direct sqrt tests.

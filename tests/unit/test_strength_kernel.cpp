@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: GPL-2.0-or-later
 // Strength scatter laws (crush_strength_kernel.h): moments of large samples
 // against the laws' exact moments, the truncation bound, and the printed law
 // kept draw for draw.
