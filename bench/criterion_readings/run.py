@@ -68,6 +68,7 @@ READINGS = {
 # (examples/oedometer/run.py, summary utilisation_at_MPa) needs them
 OEDO_DUMP_EVERY = 10000
 RESULTS = os.path.join(HERE, "results.json")
+CARRY = os.path.join(HERE, "carry")   # killed chamber pieces' resumable state, in git
 EVR_RESULTS = os.path.join(REPO, "bench", "error_vs_runtime", "results.json")
 ROOT = os.path.join(REPO, "results", "criterion_readings")
 
@@ -93,6 +94,15 @@ def pieces():
             out.append({"name": "chamber_%s_seed%d" % (name, seed), "scene": "chamber",
                             "grains": "crushable_ne34", "reading": name, "role": "reading",
                             "setting": dict(evr.CHAMBER_REF, crush_reading=kw, packing_seed=seed)})
+    # the fragments' velocity rule under density scaling (issue "Nothing
+    # changes behind a user's back", item 2): the study's reference chamber
+    # with d_scale_ref = 0.55 d50 and the present rule (true momentum), against
+    # the error-vs-runtime records of the same setting made with the former
+    # rule (fragments at the parent's velocity) and without scaling
+    for seed in (2024, 2025):
+        out.append({"name": "chamber_dscale_0.55_seed%d" % seed, "scene": "chamber",
+                    "grains": "crushable_ne34", "reading": "printed", "role": "density_rule",
+                    "setting": dict(evr.CHAMBER_REF, d_scale_ref_d50=0.55, packing_seed=seed)})
     return out
 
 
@@ -125,6 +135,8 @@ def run(p, np_):
     if p["scene"] == "triaxial":
         rec = run_triaxial(p, ROOT, np_)
     else:
+        # a piece killed in an earlier session goes on from its carried state
+        evr.carry_in(os.path.join(ROOT, p["name"]), p["name"], CARRY)
         rec = evr.run_piece(p, ROOT, np_)
     rec["reading"] = p["reading"]
     rec["crush_reading"] = p["setting"].get("crush_reading", "")
@@ -260,6 +272,8 @@ def main(argv=None):
     ap.add_argument("--scene", nargs="+", choices=("oedometer", "triaxial", "chamber"))
     ap.add_argument("--reading", nargs="+", choices=sorted(READINGS))
     ap.add_argument("--np", type=int, default=1)
+    ap.add_argument("--carry", action="store_true",
+                    help="pack every killed chamber piece's resumable state into carry/ (commit it)")
     a = ap.parse_args(argv)
     data = load()
     todo = [p for p in pieces()
@@ -269,6 +283,10 @@ def main(argv=None):
         for p in todo:
             state = "done" if p["name"] in data["runs"] else "to run"
             print("%-34s %-10s %s" % (p["name"], state, p["setting"].get("crush_reading") or "(printed)"))
+        return 0
+    if a.carry:
+        for name, step, mb in evr.carry_out(ROOT, [p["name"] for p in pieces()], CARRY):
+            print("carried %s at restart step %s (%.1f MB)" % (name, step, mb))
         return 0
     if a.table:
         table = rows(data, printed_references(evr.load(EVR_RESULTS)))
@@ -287,6 +305,9 @@ def main(argv=None):
         data = load()                     # another call may have added records
         data["runs"][p["name"]] = rec
         evr.save(RESULTS, data)
+        carried = evr.carry_path(p["name"], CARRY)
+        if "error" not in rec and os.path.exists(carried):
+            os.remove(carried)            # the record replaces the carried state
         print("criterion readings: %s %s" % (p["name"], rec.get("error") or "done"), flush=True)
     return 0
 
