@@ -116,7 +116,7 @@ def test_static_packing_keeps_its_forces_exactly(tmp_path):
     platen's 4 kN), platen held, damped to rest, every velocity set to zero;
     then the forces of that state without and with scaling (run 0: computed
     at the same positions, not integrated). Every grain-grain contact force
-    (compute pair/gran/local) and the platen force must be the same to the
+    (compute pair/gran/local) must be the same to the
     last bit. (A first run 0 re-sorts the atoms, which LIGGGHTS does at the
     set-up of every run, and so changes the order of the platen's sum in the
     14th digit; the unscaled forces are those of a second one.) With the
@@ -152,14 +152,15 @@ write_dump all custom masses_scaled.txt id mass modify sort id format "%d %.17g"
                            check=True)
     assert "particles scaled now" in res.log
     assert res.thermo[-1]["crush[1]"][-1] == 0                  # nothing broke
-    # the platen force of the two states: exactly equal
-    a, b = res.thermo[-2]["top[3]"][-1], res.thermo[-1]["top[3]"][-1]
-    assert abs(a) > 1000.0, res.summary()                       # the packing carries load
-    assert b == a, (a, b)
     # every grain-grain contact: ids, periodic flag, force vector, to the last bit
+    # (the platen's force is not compared: a `run 0` prints a mesh's force at
+    # the set-up row, where stock LIGGGHTS adds the set-up forces to the
+    # previous total, docs/liggghts-patches.md)
     c0 = _local_entries(res.path("contacts_unscaled.txt"))
     c1 = _local_entries(res.path("contacts_scaled.txt"))
     assert c0.shape == c1.shape and c0.shape[0] >= 20, (c0.shape, c1.shape)
+    # the packing carries load: the grain contacts' normal forces add up to kN
+    assert np.abs(c0[:, -3:]).sum() > 1000.0, res.summary()
     np.testing.assert_array_equal(c1, c0)
     # while the masses did change: contacts of scaled grains carry load
     (m0,) = harness.read_dump(res.path("masses_unscaled.txt"))
