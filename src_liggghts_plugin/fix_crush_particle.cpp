@@ -986,6 +986,25 @@ void FixCrushParticle::utilisation(std::vector<double> *out)
 }
 
 /* ----------------------------------------------------------------------
+   Velocity factor of the fragments of one break (radii r[0..n), density
+   rho) under density scaling: fragment_velocity_factor of the true and
+   scaled masses of those kept (not finer than d_frag_min). Called by
+   break_particles and energy_of_breaks, so both use the same velocities.
+------------------------------------------------------------------------- */
+
+double FixCrushParticle::fragment_speed_factor(const double *r, int n, double rho) const
+{
+  double sum_true = 0.0, sum_scaled = 0.0;
+  for (int f = 0; f < n; f++) {
+    if (2.0 * r[f] < d_frag_min_) continue;
+    const double mt = sphere_mass(r[f], rho);
+    sum_true += mt;
+    sum_scaled += mt * density_scale_factor(2.0 * r[f], d_scale_ref_);
+  }
+  return fragment_velocity_factor(sum_true, sum_scaled);
+}
+
+/* ----------------------------------------------------------------------
    Replace every candidate by its fragments. New tags are assigned in the
    order of the parents' tags over all ranks, so tags, strengths and
    orientations do not depend on the number of ranks.
@@ -1100,14 +1119,7 @@ void FixCrushParticle::break_particles()
     const double m_parent = true_mass(i);
     // fragments take the parent's velocity, times the density-scaling factor
     // that keeps their momentum that of their true mass (crush_density_scale_kernel.h)
-    double sum_true = 0.0, sum_scaled = 0.0;
-    for (int f = 0; f < kFragments; f++) {
-      if (2.0 * frag_r[f] < d_frag_min_) continue;
-      const double mt = sphere_mass(frag_r[f], rho);
-      sum_true += mt;
-      sum_scaled += mt * density_scale_factor(2.0 * frag_r[f], d_scale_ref_);
-    }
-    const double v_factor = fragment_velocity_factor(sum_true, sum_scaled);
+    const double v_factor = fragment_speed_factor(frag_r, kFragments, rho);
     vp[0] *= v_factor; vp[1] *= v_factor; vp[2] *= v_factor;
     double mass_kept = 0.0;
     for (int f = 0; f < kFragments; f++) {
@@ -1300,13 +1312,7 @@ void FixCrushParticle::energy_of_breaks(const std::vector<int> &parents,
     // fragments take the parent's velocity and no spin
     // (times the density-scaling velocity factor, as break_particles does)
     const int nf = energy_->fragments(atom->x[i], atom->radius[i], atom->tag[i], rf, xf);
-    double sum_true = 0.0, sum_scaled = 0.0;
-    for (int f = 0; f < nf; f++) {
-      const double mt = sphere_mass(rf[f], atom->density[i]);
-      sum_true += mt;
-      sum_scaled += mt * density_scale_factor(2.0 * rf[f], d_scale_ref_);
-    }
-    const double vf = fragment_velocity_factor(sum_true, sum_scaled);
+    const double vf = fragment_speed_factor(rf, nf, atom->density[i]);
     const double vfrag[3] = {vf * v[0], vf * v[1], vf * v[2]};
     double KEf = 0.0;
     for (int f = 0; f < nf; f++)

@@ -204,6 +204,7 @@ class FixCrushParticle : public Fix {
   void find_candidates_pairs();
   void find_candidates_walls();
   void break_particles();
+  double fragment_speed_factor(const double *r, int n, double rho) const;
   void count_atoms();
   void check_atom_count();
   void write_events(const std::vector<double> &local_records, int nrec_local);
