@@ -101,7 +101,7 @@ function(prepare_liggghts_source src dst plugin_dir)
       # (FixContactHistoryMesh::pre_force), handleContact sees only grains in
       # a triangle's list, and cleanUpContacts, sort_contacts and n_contacts
       # loop over nneighs or npartner (both 0). Clear only the slots handed
-      # out, and skip those grains (docs/performance.md, "Mesh walls"). Speed
+      # out, and skip those grains (docs/studies/performance.md, "Mesh walls"). Speed
       # only: the same numbers to the last bit (docs/liggghts-patches.md).
       _crush_patch(_t
         "    keeppage_[0]->reset(true);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Cost of breaking: fix crush/particle while hundreds of grains break, against
-stock LIGGGHTS on the same packings (issue 13 item 3; docs/performance.md,
+stock LIGGGHTS on the same packings (issue 13 item 3; docs/studies/performance.md,
 "Breaking: what a break step costs").
 
     /usr/bin/python3 bench/break_cost/run.py [--cells 16 16 10] [--segments 10]

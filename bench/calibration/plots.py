@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Figures and tables of docs/calibration.md from bench/calibration/results/*.json.
+"""Figures and tables of docs/studies/calibration.md from bench/calibration/results/*.json.
 
     /usr/bin/python3 bench/calibration/plots.py [--img docs/img] [--markdown]
 
@@ -21,7 +21,7 @@ RESULTS = os.path.join(HERE, "results")
 sys.path.insert(0, os.path.join(REPO, "scripts"))
 
 # Reference band for NE34 in drained triaxial compression at 100 kPa AS STATED
-# IN ISSUE 14 (phi_cs 31-33.5 degrees); docs/calibration.md says what of the
+# IN ISSUE 14 (phi_cs 31-33.5 degrees); docs/studies/calibration.md says what of the
 # literature behind it could and could not be read.
 PHI_CS_BAND = (31.0, 33.5)
 

@@ -12,9 +12,9 @@ Each case runs examples/triaxial/run.py (or examples/oedometer/run.py) in
 WORK/CASE and writes bench/calibration/results/CASE.json: the options, the
 wall time, the measured numbers (summary.json of the driver, plus a peak
 from the curve smoothed over 1 % axial strain) and the curves thinned to
-0.25 % axial strain, for the plots of docs/calibration.md. A case whose
+0.25 % axial strain, for the plots of docs/studies/calibration.md. A case whose
 result exists is skipped (--force runs it again), so the study runs in
-restartable pieces and is committed as it comes. docs/calibration.md
+restartable pieces and is committed as it comes. docs/studies/calibration.md
 explains the cases and the results.
 """
 

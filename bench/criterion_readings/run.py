@@ -77,7 +77,7 @@ QC_RATIO_RANGE = (1.3, 1.7)
 ZONE_FRACTION_MIN = 0.70
 OEDO_E_TOL = 0.03          # void ratio at 10 and 30 MPa against the printed reading
 OEDO_BR_FACTOR = 2.0       # Br at 30 MPa at most this times the printed reading's
-PHI_CS_RANGE = (31.0, 33.5)   # docs/calibration.md (the range quoted in issue 14)
+PHI_CS_RANGE = (31.0, 33.5)   # docs/studies/calibration.md (the range quoted in issue 14)
 
 
 def pieces():

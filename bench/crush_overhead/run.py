@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Overhead of fix crush/particle against stock LIGGGHTS (docs/performance.md).
+"""Overhead of fix crush/particle against stock LIGGGHTS (docs/studies/performance.md).
 
     /usr/bin/python3 bench/crush_overhead/run.py [--cells 18 18 16] [--steps 3000]
                                                  [--reps 5] [--ranks 1 2]
@@ -35,7 +35,7 @@ number of atoms has not changed.
 The target (issue 1: at most 5 % over stock, TARGET) is checked on the
 direct measure, the fix's extra LIGGGHTS "Other" time over the stock loop
 time (median of the pairs at each rank count; loop-time ratios on shared
-machines carry +-15 % of noise, docs/performance.md); the script exits 1
+machines carry +-15 % of noise, docs/studies/performance.md); the script exits 1
 when it is missed, after writing the results.
 
 Timing hygiene: before measuring, the script waits (at most --max-wait s) until

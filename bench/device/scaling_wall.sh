@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 # Wall-clock rates of the chamber slice of bench/icount (117,170 grains, the
 # paper chamber's radius) at 1 to 16 ranks, balanced by balance/grains and
-# not, on a machine with at least 16 free cores (docs/performance.md
+# not, on a machine with at least 16 free cores (docs/studies/performance.md
 # "Wall-clock rates at 16 ranks"). The instruction counts of the same scene
 # bound the efficiency; this measures what the cores deliver.
 #

@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Merge the JSON files of bench/device/scaling_wall.sh (one folder per call,
 each holding the `results.tgz` it returned, unpacked) into one results file
-with the medians per rank count and grid (docs/performance.md "Wall-clock
+with the medians per rank count and grid (docs/studies/performance.md "Wall-clock
 rates at 16 ranks").
 
     /usr/bin/python3 bench/device/summarise_scaling_wall.py DIR [DIR ...] \

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Error against run time: what each cost saving gives up (docs/error-vs-runtime.md).
+"""Error against run time: what each cost saving gives up (docs/studies/error-vs-runtime.md).
 
     python3 bench/error_vs_runtime/run.py --list            # the pieces and their state
     python3 bench/error_vs_runtime/run.py [--only NAME ...] [--budget-h H] [--np N]
@@ -82,7 +82,7 @@ def time_step(N, dt_frac, d_comm_ratio=0.55, d_scale_ref=0.0):
 # The reference: the paper's N, a 90-degree sector of a chamber 8 R wide,
 # monotonic push at 1 m/s to 0.2 m in a chamber 0.3 m tall, so that b h > 3
 # for the b of about 15 1/m that a first, shallower reference measured
-# (H 0.2 m, depth 0.12 m: b h = 1.76, docs/error-vs-runtime.md), the
+# (H 0.2 m, depth 0.12 m: b h = 1.76, docs/studies/error-vs-runtime.md), the
 # demo's time step (0.156 of the smallest Rayleigh time), no density scaling,
 # the paper's comminution limit.
 CHAMBER_REF = {"N": 39.0, "R_ch_over_R": 8.0, "sector": 90, "dt_frac": 0.156, "d_scale_ref_d50": 0.0,
@@ -387,7 +387,7 @@ def cost_core_h(run):
 def levelled_off(run):
     """False for a chamber run whose q_c fit did not level off (b h <= 3 at
     the final depth): its fitted asymptote is not a steady q_c (docs/
-    error-vs-runtime.md, "The first, shallower reference"), so its q_c error
+    docs/studies/error-vs-runtime.md, "The first, shallower reference"), so its q_c error
     is flagged and kept off the Pareto front. True for everything else."""
     return run["scene"] != "chamber" or run["metrics"].get("qc_levelled_off") is not False
 
@@ -476,7 +476,7 @@ def qc_ratio(data):
 # chamber runs of the reference setting that repeat its trajectory with a
 # perturbation: the second seed, and the time steps 0.078 and 0.2 T_R,
 # which land on either side of the reference's 0.156 with no trend in any
-# number (docs/error-vs-runtime.md, "Run-to-run spread"). Together they
+# number (docs/studies/error-vs-runtime.md, "Run-to-run spread"). Together they
 # measure how far one run lands from another better than two seeds do.
 SPREAD_SETTINGS = ("ref", "ref_seed2025", "dt_frac=0.078", "dt_frac=0.2")
 
@@ -582,7 +582,7 @@ def write_table(rows, path_md, path_png, ratio_rows=(), unstable=(), spread_rows
         if scene == "chamber" and "unbreakable" in scat:
             lines += ["", "Br_band_1_2 of unbreakable runs is the measure's floor, not breakage: the "
                       "band's grains now against those in it at the start, as the pile pushes grains "
-                      "from band to band (docs/error-vs-runtime.md); its errors are not read."]
+                      "from band to band (docs/studies/error-vs-runtime.md); its errors are not read."]
     if unstable:
         lines += ["", "Runs stopped by the blow-up detector (fix check/stability, docs/stability.md):", ""]
         lines += ["* %s: %s" % (name, msg) for name, msg in unstable]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Instruction counts per rank, per component and per feature of the chamber
-in its jacking phase (docs/performance.md "Instruction counts").
+in its jacking phase (docs/studies/performance.md "Instruction counts").
 
     /usr/bin/python3 bench/icount/run.py scaling  [--grains-per-rank 7200] [--ranks 1 2 4 8]
     /usr/bin/python3 bench/icount/run.py features [--grains 3000]

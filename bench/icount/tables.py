@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Markdown tables of docs/performance.md ("Instruction counts") from the
+"""Markdown tables of docs/studies/performance.md ("Instruction counts") from the
 JSON files of bench/icount/run.py.
 
     /usr/bin/python3 bench/icount/tables.py [--scaling bench/icount/results_scaling.json]

@@ -8,7 +8,7 @@ cell with rigid plates, the six plates), run LIGGGHTS, post-process.
 
 The default cell is periodic (in.triaxial_periodic: no walls, the whole
 specimen at the density of the preparation); --cell walls puts the specimen
-between six rigid frictionless plates (in.triaxial). docs/calibration.md
+between six rigid frictionless plates (in.triaxial). docs/studies/calibration.md
 gives the study behind the choice.
 
 Writes into --out: grains.data, plate_*.stl (walls), log.liggghts, breakage_events.txt
@@ -51,7 +51,7 @@ END_SPAN = 1.8
 
 # specimen (W, H) in d50. The default is the smallest size whose peak
 # stress ratio lies within the packing-seed scatter of the largest size
-# studied (docs/calibration.md: periodic cells of 6-16 d50; the peak falls
+# studied (docs/studies/calibration.md: periodic cells of 6-16 d50; the peak falls
 # with size up to 12 d50 and stays at 16 d50; the ratio at 25 % axial strain
 # varies by up to 1.6 degrees between sizes from 8 d50 on, without a trend).
 SIZES = {
@@ -215,7 +215,7 @@ def parse_args(argv=None):
     p.add_argument("--incremental-shear", action="store_true",
                    help="periodic cell only: switch the grain contacts to 'tangential incremental' "
                    "from consolidation on, on the specimen prepared with --tangential-model "
-                   "(a diagnostic, docs/calibration.md item 4)")
+                   "(a diagnostic, docs/studies/calibration.md item 4)")
     p.add_argument("--rotation", action="store_true",
                    help="let the grains rotate from consolidation on (a diagnostic: SPEC section 2 "
                    "inhibits rotation)")

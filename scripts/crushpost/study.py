@@ -2,7 +2,7 @@
 """Error against run time: the pure functions of bench/error_vs_runtime.
 
 A study runs one reference setting and variants that change one thing at a
-time (docs/error-vs-runtime.md). For every run it records what it cost
+time (docs/studies/error-vs-runtime.md). For every run it records what it cost
 (wall time, core-seconds, particle-steps) and a few result numbers; this
 module turns those into errors relative to the reference, says which errors
 lie inside the reference's own seed-to-seed scatter (noise), and marks the
@@ -57,7 +57,7 @@ def replicate_spread(values):
     magnitude) of runs that repeat one setting, NaN-aware, along axis 0.
     Two seeds give a thin estimate of how far a single chamber run lands
     from another; runs that perturb the trajectory without a systematic
-    effect (docs/error-vs-runtime.md) add replicates. NaN where fewer than
+    effect (docs/studies/error-vs-runtime.md) add replicates. NaN where fewer than
     two runs recorded the metric or the mean is 0.
     values: (n_runs,) or (n_runs, n_metrics). Returns (mean, rel_std)."""
     v = np.asarray(values, float)
@@ -190,7 +190,7 @@ def oedometer_metrics(summary):
     """The study's numbers of one oedometer run (summary.json of
     examples/oedometer/run.py): void ratio at 10 and 30 MPa on loading, of
     the core (farther than d50 from the walls: independent of the cell's
-    width, docs/calibration.md) and of the whole cell, Br at 30 MPa and at
+    width, docs/studies/calibration.md) and of the whole cell, Br at 30 MPa and at
     the end. Keys a summary lacks (runs before e_core was written) are None."""
     return {k: summary.get(k) for k in ("e_core_at_10MPa", "e_core_at_30MPa", "e_at_10MPa",
                                          "e_at_30MPa", "Br_at_10MPa", "Br_at_30MPa", "Br_final",

@@ -112,7 +112,7 @@ def virgin_mask(depth, phase=None, atol=None, push_phase=0):
 def qc_band_means(h, q_c, width, h_end=None):
     """Mean ``q_c`` over bands of depth ``[k width, (k + 1) width)``, k = 0,
     1, ...: a plateau estimate that, unlike the trend fit, assumes no shape
-    (docs/error-vs-runtime.md reads the bands from 75 mm on and the mean of
+    (docs/studies/error-vs-runtime.md reads the bands from 75 mm on and the mean of
     the last three). Called by the ``fit-qc`` command and the chamber report
     on the points of virgin penetration.
 

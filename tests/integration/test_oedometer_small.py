@@ -29,7 +29,7 @@ c. Br is exactly zero without crushing (and no event, no fines, constant
    count grows by exactly 13 per event, and the events file lists every
    event.
    Crushing begins where the calibration study found it for this cell
-   (docs/calibration.md, bench/calibration/results/oedsmall_crush_s*.json,
+   (docs/studies/calibration.md, bench/calibration/results/oedsmall_crush_s*.json,
    six packing seeds): 1 % of the grains broken once sigma_v has reached
    0.3-5 MPa (study: 0.46-4.2 MPa), 1-4.5 % broken by 5 MPa (study:
    1.45-2.6 %).

@@ -31,7 +31,7 @@ The default cell, periodic (in.triaxial_periodic), is run once at 2 ranks:
 25 % axial strain. Checked: the porosity of the preparation, the servo, the
 box lengths against the commands, the deck's stress against the Love-Weber
 sum over the dumped contacts, and the critical-state stress ratio against
-the band of the calibration study (docs/calibration.md).
+the band of the calibration study (docs/studies/calibration.md).
 """
 
 import importlib.util
@@ -53,7 +53,7 @@ SETTLE = 0.005          # axial strain after which the servo is judged
 # packing cannot be made as dense as NE34's 0.385 (docs/preparation.md)
 N_TARGET = 0.40
 # periodic cell of the test, and the band of its critical-state stress ratio
-# from the size study (docs/calibration.md, bench/calibration/results)
+# from the size study (docs/studies/calibration.md, bench/calibration/results)
 PERIODIC_W = 8
 # the size study's periodic cells of 8, 10, 12 and 16 d50 (12 runs: 3
 # packing seeds each, 1-2 ranks) have eta_cs 1.284-1.387, mean 1.345,
@@ -294,7 +294,7 @@ def test_periodic_stress_is_the_contacts_love_weber_stress(periodic):
 def test_periodic_dense_sand_peaks_dilates_and_reaches_critical_state(periodic):
     """Dense NE34 at 100 kPa: the stress ratio peaks and softens to a
     critical state while the specimen dilates. The band of eta_cs is that of
-    the size study (docs/calibration.md: periodic cells of 8-16 d50, twelve
+    the size study (docs/studies/calibration.md: periodic cells of 8-16 d50, twelve
     runs, mean +- 3 standard deviations); the former rigid-plate default
     (eta_cs 1.56-1.58) and grains free to rotate (0.67) lie outside it."""
     p = periodic["path"]

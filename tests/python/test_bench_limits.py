@@ -31,7 +31,7 @@ def test_report_limits(benches):
     assert len(bad) == 1 and bad[0].startswith("total_s")
     assert len(m.limit_failures({"total_s": 1.0, "peak_rss_MB": 2049.0})) == 1
     assert len(m.limit_failures({"total_s": float("nan")})) == 2      # NaN and missing fail
-    # docs/performance.md: 4.9 s and 0.52 GB, within the limits
+    # docs/studies/performance.md: 4.9 s and 0.52 GB, within the limits
     res = _committed("bench/report/results.json")
     assert m.limit_failures(res["median"]) == []
 
@@ -45,7 +45,7 @@ def test_break_cost_target(benches):
                             "np2": {"crush_over_stock_mean": 0.899}})
     assert len(bad) == 1 and bad[0].startswith("np2")
     assert len(m.limit_failures({"np1": {}})) == 1
-    # docs/performance.md: met on instruction counts (0.913 at 1 and 2 ranks);
+    # docs/studies/performance.md: met on instruction counts (0.913 at 1 and 2 ranks);
     # the wall-time run (noise at the 10 % level) missed it at 1 rank (0.882)
     assert m.limit_failures(_committed("bench/break_cost/results_callgrind.json")
                             ["summary_medians"]) == []
@@ -61,7 +61,7 @@ def test_crush_overhead_target(benches):
     bad = m.limit_failures(summ)
     assert len(bad) == 1 and bad[0].startswith("2 ranks")
     assert len(m.limit_failures({"1": {"fix_share_from_other": []}})) == 1
-    # docs/performance.md: after the margin skip (results_device.json, three
+    # docs/studies/performance.md: after the margin skip (results_device.json, three
     # invocations) 2.1 % at 1 rank and 3.8 % at 2 ranks, median of 9 pairs;
     # before it (results.json, 2026-11-23) about 10 and 11 %
     dev = _committed("bench/crush_overhead/results_device.json")["invocations"]

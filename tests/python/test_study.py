@@ -138,7 +138,7 @@ def test_qc_run_scatter_reads_the_pooled_spread_of_the_grain_model(tmp_path):
 
 
 def test_committed_study_table_gives_the_documented_spread():
-    # docs/error-vs-runtime.md "Run-to-run spread, pooled": sd 3.6 % (crushable)
+    # docs/studies/error-vs-runtime.md "Run-to-run spread, pooled": sd 3.6 % (crushable)
     # and 4.2 % (unbreakable) in steady q_c; recomputed here from the
     # pooled runs' own records in results.json, not read back from the table
     import json
