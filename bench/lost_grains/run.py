@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Where do grains leave the calibration chamber? (docs/cpt.md, "Lost grains")
+"""Where do grains leave the calibration chamber? (docs/studies/cpt-lost-grains.md)
 
     /usr/bin/python3 bench/lost_grains/run.py --out results/lost_grains/old --hole 1.25
     /usr/bin/python3 bench/lost_grains/run.py --out results/lost_grains/new --hole 1.0
