@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
-   compute stress/grain: per-particle stress over every contact (SPEC
-   section 4 item 7). See the header and docs/compute_stress_grain.md.
+   compute stress/grain: per-particle stress over every contact (docs/model.md
+   §4.7). See the header and docs/compute_stress_grain.md.
 
    The forces are LIGGGHTS' own: compute pair/gran/local and compute
    wall/gran/local evaluate every contact again from the current positions

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
-   compute stress/grain: per-particle stress of SPEC section 4 item 7,
+   compute stress/grain: per-particle stress of docs/model.md §4.7,
    sigma_p = -(1/V_p) sum_c s^c (x) F^c over every contact of particle p,
    particle-particle and particle-mesh wall, compression positive
    (s^c from the centre to the contact point, F^c the force on p,

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-/* Einav (2007) breakage index Br = B_t / B_p (SPEC section 2) for a discrete
+/* Einav (2007) breakage index Br = B_t / B_p (docs/model.md §2.8) for a discrete
    grading plus unresolved fines, bounded to [0, 1]. Stateless kernels with no
    LIGGGHTS dependency, unit-tested in tests/unit/test_breakage_index_kernel.cpp;
    scripts/crushpost/breakage.py implements the same definition in numpy.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-/* Grain breakage model of SPEC section 2 (Russell & Muir Wood criterion,
+/* Grain breakage model of docs/model.md §2.4-§2.5 (Russell & Muir Wood criterion,
    size effect with scatter, Rayleigh time): stateless kernels with no
    LIGGGHTS dependency, unit-tested in tests/unit/test_breakage_kernel.cpp. */
 
@@ -136,7 +136,7 @@ inline double standard_normal(uint64_t seed, uint64_t tag, uint64_t stream, uint
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
 }
 
-// Strength factor f ~ Normal(1, var), non-positive draws redrawn (SPEC).
+// Strength factor f ~ Normal(1, var), non-positive draws redrawn (docs/model.md §2.5).
 // With var = 0 it is exactly 1.
 inline double strength_factor(uint64_t seed, uint64_t tag, double var)
 {
@@ -147,7 +147,7 @@ inline double strength_factor(uint64_t seed, uint64_t tag, double var)
   }
 }
 
-// Rayleigh time T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766), SPEC section 5.
+// Rayleigh time T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766), docs/model.md §5.
 inline double rayleigh_time(double r, double rho, double G, double nu)
 {
   return kPi * r * std::sqrt(rho / G) / (0.1631 * nu + 0.8766);

@@ -2,7 +2,7 @@
 /* Readings of the breakage criterion (fix crush/particle keywords pressure,
    force, size_law): stateless kernels with no LIGGGHTS dependency,
    unit-tested in tests/unit/test_criterion_kernel.cpp. The printed
-   criterion (docs/model.md "Breakage criterion") is
+   criterion (docs/model.md §2.4) is
        F_n >= F_lim = (pi sigma_lim)^3 (3 R* / (4 E*))^2,
    the force at which the MEAN Hertz pressure F_n / (pi a^2) reaches
    sigma_lim. Each reading below changes F_lim by a factor k that depends on

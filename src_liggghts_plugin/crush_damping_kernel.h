@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-/* Local (non-viscous) damping of PFC, SPEC section 2.
+/* Local (non-viscous) damping of PFC, docs/model.md §2.3.
    Stateless kernels, no LIGGGHTS dependency; unit-tested in tests/unit. */
 
 #ifndef CRUSH_DAMPING_KERNEL_H

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-/* Fragment geometry of SPEC section 2: the parent sphere is replaced by the
+/* Fragment geometry of docs/model.md §2.6: the parent sphere is replaced by the
    first 14 spheres of an Apollonian packing, in a randomly rotated frame.
    Stateless kernels with no LIGGGHTS dependency, unit-tested in
    tests/unit/test_fragment_kernel.cpp; FixCrushParticle::break_particles calls them. */

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-/* Jacking controller of the pile (SPEC section 4 item 5): the phase state
+/* Jacking controller of the pile (docs/model.md §4.5): the phase state
    machine of fix jack/pile. Pure functions of the controller state, the tip
    depth and the head force; no LIGGGHTS dependency; unit-tested in
    tests/unit/test_jack_kernel.cpp.

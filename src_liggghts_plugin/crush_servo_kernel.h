@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-/* Radial servo of a cylindrical mesh wall (fix servo/radial, SPEC section 4
-   item 4): radial directions, the wall's radial stress from per-element
+/* Radial servo of a cylindrical mesh wall (fix servo/radial, docs/model.md
+   §4.4): radial directions, the wall's radial stress from per-element
    forces, the servo velocity and the radial scale factor.
    Stateless kernels, no LIGGGHTS dependency; unit-tested in tests/unit. */
 

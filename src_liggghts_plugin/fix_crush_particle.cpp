@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
-   fix crush/particle: crushable grains (SPEC section 2). See the header and
+   fix crush/particle: crushable grains (docs/model.md §2). See the header and
    docs/fix_crush_particle.md. The model math lives in crush_*_kernel.h.
 ------------------------------------------------------------------------- */
 
@@ -211,7 +211,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
       a.fail("missing required keyword '" + str(required[k]) +
              "' (required: sigma_lim0 m d0 scale var d_comm seed)");
 
-  // Einav limit grading: default NE34 sizes (SPEC section 3) scaled by N
+  // Einav limit grading: default NE34 sizes (docs/model.md §3) scaled by N
   if (!a.given("d_max")) d_max_ = 0.27e-3 * scale_N_;
   if (!a.given("d_min")) d_min_ = 0.01e-3 * scale_N_;
   if (!(d_max_ > d_min_))
@@ -434,7 +434,7 @@ void FixCrushParticle::setup(int)
   }
   assign_missing_strengths();
   if (!initialized_) {
-    // initial solid mass and initial grading F0 (SPEC: Br relative to the
+    // initial solid mass and initial grading F0 (docs/model.md §2.8: Br relative to the
     // start), per Br size bin: [0] mass, [1] unbinned integral, then the
     // particle histogram (crush_breakage_index_kernel.h)
     const BrGrid grid = br_grid(d_min_, d_max_);
@@ -482,7 +482,7 @@ void FixCrushParticle::setup(int)
 
 /* ----------------------------------------------------------------------
    The time step must hold for the smallest particle that can ever exist:
-   the smallest fragment of the smallest breakable particle (SPEC section 5),
+   the smallest fragment of the smallest breakable particle (docs/model.md §5),
    and for the stiffest contact it can have (grain-steel, fragment-steel):
    the Rayleigh time does not see the partner. Derivation of the contact
    bound: docs/stability.md, "Time step and blow-up detection".

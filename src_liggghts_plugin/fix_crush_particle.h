@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
-   fix crush/particle: crushable grains (SPEC section 2).
+   fix crush/particle: crushable grains (docs/model.md §2).
    Russell & Muir Wood criterion on every particle-particle and
    particle-wall contact, size-dependent scattered strength, replacement of
    a broken grain by 14 Apollonian fragments, comminution limit, fines mass
@@ -74,7 +74,7 @@ class FixCrushParticle : public Fix {
   void utilisation(std::vector<double> *u);
 
  private:
-  // model parameters (SPEC section 3 names)
+  // model parameters (docs/model.md §3 names)
   double sigma_lim0_, m_, d0_, scale_N_, var_, d_comm_;
   uint64_t seed_;
   double d_max_, d_min_, omega_;  // Br limit grading

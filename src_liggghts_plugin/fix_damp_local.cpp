@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
-   fix damp/local: PFC-style local damping (SPEC section 2).
+   fix damp/local: PFC-style local damping (docs/model.md §2.3).
 ------------------------------------------------------------------------- */
 
 #include "fix_damp_local.h"

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
-   fix jack/pile: jacking controller of the pile (SPEC section 4 item 5).
+   fix jack/pile: jacking controller of the pile (docs/model.md §4.5).
    See the header and docs/fix_jack_pile.md. The phase state machine lives
    in crush_jack_kernel.h.
 

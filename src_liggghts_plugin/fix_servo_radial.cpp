@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
 /* ----------------------------------------------------------------------
    fix servo/radial: radial stress servo of a cylindrical mesh wall
-   (SPEC section 4 item 4). See the header and docs/fix_servo_radial.md.
+   (docs/model.md §4.4). See the header and docs/fix_servo_radial.md.
    The math lives in crush_servo_kernel.h.
 
    How the wall moves. Each step the x and y coordinates of every node of

@@ -2,7 +2,7 @@
 /* ----------------------------------------------------------------------
    fix servo/radial: servo-controls the radius of a cylindrical mesh wall
    (fix mesh/surface/stress, vertical facets around an axis parallel to z)
-   to a target radial stress (SPEC section 4 item 4, the calibration
+   to a target radial stress (docs/model.md §4.4, the calibration
    chamber's lateral wall). The wall's nodes are scaled in x and y about
    the axis (its height stays); unfix it to hold the radius.
    Doc: docs/fix_servo_radial.md

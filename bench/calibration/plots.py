@@ -215,7 +215,7 @@ def plot_oedometer(res, img):
     for ax, what in ((a1, "whole cell"), (a3, "core, farther than d50 from the walls")):
         ax.axhline(0.87, color="0.6", lw=0.8, ls=":")
         ax.axhline(0.53, color="0.6", lw=0.8, ls=":")
-        ax.text(0.02, 0.855, "NE34 e_max 0.87 (SPEC 3)", fontsize=7, color="0.4",
+        ax.text(0.02, 0.855, "NE34 e_max 0.87 (docs/model.md §3)", fontsize=7, color="0.4",
                 transform=ax.get_yaxis_transform())
         ax.text(0.02, 0.535, "NE34 e_min 0.53", fontsize=7, color="0.4",
                 transform=ax.get_yaxis_transform())

@@ -68,7 +68,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 DECK = os.path.join(HERE, "in.crush_overhead")
 
-# NE34 at scale N (SPEC section 3) and the constants of inputs/crushable_ne34.in,
+# NE34 at scale N (docs/model.md §3) and the constants of inputs/crushable_ne34.in,
 # inputs/materials_ne34.in
 D50_REAL = 0.21e-3
 SIGMA_LIM0, M_WEIBULL, D0, VAR = 1.9e9, 10.0, 2e-3, 0.36

@@ -58,15 +58,15 @@ from crushpost.runner import (default_binary, log_errors, process_alive, read_pi
                               remove_tree, snapshot_tree)
 from crushpost.thermo import parse_log  # noqa: E402
 
-# NE34 at N = 1 (SPEC section 3; inputs/materials_ne34.in, crushable_ne34.in)
+# NE34 at N = 1 (docs/model.md §3; inputs/materials_ne34.in, crushable_ne34.in)
 D50_1 = 0.21e-3
 G_GRAIN, NU_GRAIN, RHO = 9e9, 0.2, 2600.0
-SMALL_FRAGMENT_RATIO = 0.23         # smallest fragment over its parent (SPEC section 5)
+SMALL_FRAGMENT_RATIO = 0.23         # smallest fragment over its parent (docs/model.md §5)
 R_PILE = 0.018                      # pile radius of the demo and the study (m)
 
 
 def rayleigh_time(r, rho=RHO, G=G_GRAIN, nu=NU_GRAIN):
-    """SPEC: T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
+    """Rayleigh time (docs/model.md §5): T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
     return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 

@@ -208,7 +208,7 @@ def same_step(n=(5, 5, 3), d=1.0e-3, speed=0.2):
     half = 0.5 * n[0] * spacing + 3e-3
     H = n[2] * d + 0.002 * d
     dt = 0.15 * rayleigh_time(0.5 * d * 0.230093)
-    # travel to the grain-grain limit of a column (Hertz, SPEC criterion)
+    # travel to the grain-grain limit of a column (Hertz, docs/model.md §2.4)
     sig = 1.9e9 * (d / 0.002) ** (-0.3)
     Es_gg = 1.0 / (2 * (1 - NU ** 2) / E_GRAIN)
     Es_gs = 1.0 / ((1 - NU ** 2) / E_GRAIN + (1 - NU ** 2) / E_STEEL)

@@ -483,7 +483,7 @@ def main(argv=None):
                    "density_scale, docs/fix_crush_particle.md); 0 = off. The time step --dt "
                    "stays as given")
     p.add_argument("--d-comm-ratio", type=float, default=0.55,
-                   help="comminution limit d_comm / d50 (SPEC section 3: 0.55); grains at or "
+                   help="comminution limit d_comm / d50 (docs/model.md §3: 0.55); grains at or "
                    "below d_comm do not break")
     p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
                    help="keywords of the criterion reading given to fix crush/particle "

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Input files of the paper-scale calibration chamber (SPEC section 4 items 4-5).
+"""Input files of the paper-scale calibration chamber (docs/model.md §4.4-§4.5).
 
     examples/cpt_paper/make_chamber.py --out runs/cyclic [--case cyclic|monotonic|unbreakable]
                                        [--sector 360|180|90] [--np 64]

@@ -172,7 +172,7 @@ def main(argv=None):
                    help="density scaling of particles finer than this (m; fix crush/particle "
                    "density_scale); 0 = off")
     p.add_argument("--d-comm-ratio", type=float, default=0.55,
-                   help="comminution limit d_comm / d50 (SPEC section 3: 0.55)")
+                   help="comminution limit d_comm / d50 (docs/model.md §3: 0.55)")
     p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
                    help="keywords of the criterion reading given to fix crush/particle "
                    "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "

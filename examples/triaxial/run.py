@@ -40,7 +40,7 @@ from crushpost.runner import run_liggghts  # noqa: E402
 RHO = 2600.0
 G_GRAIN, NU_GRAIN = 9e9, 0.2
 FRAGMENT_SMALL = 0.230093     # radius of the small Apollonian fragment / parent radius
-D_COMM_D50 = 0.55             # comminution limit / d50 (SPEC 3)
+D_COMM_D50 = 0.55             # comminution limit / d50 (docs/model.md §3)
 
 # Plate spans relative to the specimen (see docs/triaxial.md): lateral plates
 # reach LATERAL_Z_SPAN * H / 2 from mid-height and LATERAL_SPAN * W / 2 across;
@@ -61,13 +61,13 @@ SIZES = {
 
 
 def rayleigh_time(r, rho=RHO, G=G_GRAIN, nu=NU_GRAIN):
-    """Rayleigh time of a sphere of radius r (SPEC section 5)."""
+    """Rayleigh time of a sphere of radius r (docs/model.md §5)."""
     return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 
 def auto_dt(grains, N, d_placed_min, fraction=0.15):
     """Time steps (dt, dt_prep): `fraction` of the Rayleigh time of the smallest
-    grain that can exist in each part of the run (SPEC section 5).
+    grain that can exist in each part of the run (docs/model.md §5).
 
     dt_prep, the preparation (no crushing fix yet): the smallest grain as
     placed (d_placed_min, before radius expansion). dt, from consolidation on:
@@ -206,7 +206,7 @@ def parse_args(argv=None):
     p.add_argument("--rate", type=float, default=5.0, help="axial strain rate (1/s)")
     p.add_argument("--eps-a-max", type=float, default=0.25, help="axial strain to shear to")
     p.add_argument("--D-loc", type=float, default=0.05,
-                   help="local damping coefficient from consolidation on (SPEC section 3: D_loc = 0.05; "
+                   help="local damping coefficient from consolidation on (docs/model.md §3: D_loc = 0.05; "
                    "the preparation keeps 0.05)")
     p.add_argument("--tangential-model", default="history", choices=["history", "incremental"],
                    help="tangential contact law of grain contacts and walls: LIGGGHTS' "
@@ -217,7 +217,7 @@ def parse_args(argv=None):
                    "from consolidation on, on the specimen prepared with --tangential-model "
                    "(a diagnostic, docs/studies/calibration.md item 4)")
     p.add_argument("--rotation", action="store_true",
-                   help="let the grains rotate from consolidation on (a diagnostic: SPEC section 2 "
+                   help="let the grains rotate from consolidation on (a diagnostic: docs/model.md §2.2 "
                    "inhibits rotation)")
     p.add_argument("--g-P", type=float, default=40.0, help="proportional servo gain (1/s)")
     p.add_argument("--g-I", type=float, default=3.2e5, help="integral servo gain (1/s^2)")

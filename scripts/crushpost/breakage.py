@@ -3,7 +3,7 @@
 distribution plus the fines of the breaks; the same definition as
 ``fix crush/particle`` (docs/fix_crush_particle.md, "Breakage index").
 
-Grading convention (SPEC section 2):
+Grading convention (docs/model.md §2.8):
 
 * ``F(d)`` is the cumulative mass fraction finer than ``d``; a particle of
   diameter ``d_p`` counts as finer than every ``d >= d_p`` (a sieve of
@@ -50,7 +50,7 @@ __all__ = [
     "bounded_breakage_index", "Breakage", "breakage", "breakage_index",
 ]
 
-#: Fractal dimension of the limit grading used in the calibration (SPEC 2).
+#: Fractal dimension of the limit grading used in the calibration (docs/model.md §2.8).
 W_FRACTAL = 2.6
 
 #: The printed criterion reading of fix crush/particle (docs/fix_crush_particle.md
@@ -60,7 +60,7 @@ CRUSH_READING_PRINTED = "pressure mean force normal size_law printed scatter nor
 
 #: Log-uniform bins of [d_min, d_max] for the bound (as the fix's kBrBins).
 N_BINS = 128
-#: Apollonian fragment radii over the parent radius (SPEC 2): 6 large, 8 small.
+#: Apollonian fragment radii over the parent radius (docs/model.md §2.6): 6 large, 8 small.
 R1_RATIO = 1.0 / (1.0 + math.sqrt(2.0))
 # small fragment: centre at u = r - r2 on a cube diagonal, tangent to the three
 # large ones at a = r - r1 on the axes: u^2 - 2 a u / sqrt3 + a^2 = (r1 + r2)^2

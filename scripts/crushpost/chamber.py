@@ -49,8 +49,8 @@ def hole_radius(r_pile):
 
 
 def _small_fragment_ratio():
-    # the small sphere of the 14-sphere Apollonian fragmentation (SPEC
-    # section 2), at distance u = r - r2 along a cube diagonal, touches three
+    # the small sphere of the 14-sphere Apollonian fragmentation (docs/model.md
+    # §2.6), at distance u = r - r2 along a cube diagonal, touches three
     # large ones (r1 = r / (1 + sqrt 2), at a = r - r1 on the axes):
     # u^2 - 2 a u / sqrt 3 + a^2 = (r + r1 - u)^2, linear in u (r = 1)
     r1 = 1.0 / (1.0 + math.sqrt(2.0))

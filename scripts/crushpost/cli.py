@@ -18,7 +18,7 @@ from .thermo import concat_blocks, read_log, summarize
 from .pile import read_jack
 from .trend import fit_qc_trend, mean_of_last_bands, qc_band_means, virgin_mask
 
-# Calibrated NE34 limits at real size (SPEC 3) [m]; scaled by N.
+# Calibrated NE34 limits at real size (docs/model.md §3) [m]; scaled by N.
 D_MIN_REAL = 0.01e-3
 D_MAX_REAL = 0.27e-3
 

@@ -116,7 +116,7 @@ def cylinder_triangles(radius, z_lo, z_hi, n_seg, center=(0.0, 0.0), inward=True
 
 
 # --------------------------------------------------------------------------
-# pile: cone tip and cylindrical shaft (SPEC section 4 item 5)
+# pile: cone tip and cylindrical shaft (docs/model.md §4.5)
 # --------------------------------------------------------------------------
 #
 # The pile axis is the z axis. The cone's apex points down, at z = tip_z; its

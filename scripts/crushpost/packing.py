@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Initial grain assemblies: the NE34 grading shape and random loose packings.
 
-The grading of Fontainebleau NE34 (SPEC section 3: d50 = 0.21 mm, coefficient
+The grading of Fontainebleau NE34 (docs/model.md §3: d50 = 0.21 mm, coefficient
 of uniformity Cu = d60/d10 about 1.47) is represented by a log-normal grading
 *by mass* with median d50 and ln-standard deviation
 ``SIGMA_LN = ln(Cu) / (z60 - z10)``, truncated at +-2 SIGMA_LN. Scaling by N

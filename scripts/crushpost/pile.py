@@ -2,7 +2,7 @@
 """The jacked pile: the time series of ``fix jack/pile`` (``file`` keyword),
 the tip's position, and points (breakage events) located relative to the tip.
 
-Geometry (SPEC section 4 item 5, ``crushpost.meshes``): the pile axis is the
+Geometry (docs/model.md §4.5, ``crushpost.meshes``): the pile axis is the
 z axis (x = y = 0, in every chamber sector), the cone's apex points down and
 has a full apex angle of 60 degrees, base radius R; the shaft (radius R)
 continues above the cone's base. ``h`` is the height above the apex, ``r``

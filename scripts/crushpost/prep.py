@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""The prepared sample (SPEC section 4 items 1 and 7; docs/preparation.md):
+"""The prepared sample (docs/model.md §4.1 and §4.7; docs/preparation.md):
 porosity of the whole sample and of its core, coordination number, and the
 ring statistics of the stress that the source paper reports for its chamber
 (mean and standard deviation of sigma_z, sigma_r, sigma_theta over annular
@@ -25,7 +25,7 @@ __all__ = ["cap_fraction", "core_area", "core_volumes", "sample_porosities", "ri
            "prep_cost", "data_file_diameters", "rayleigh_time", "prep_time_step",
            "prep_chunk_for", "PAPER_PREPARED"]
 
-# The source paper's prepared chamber (SPEC section 4 item 1): porosity, and
+# The source paper's prepared chamber (docs/model.md §4.1): porosity, and
 # [mean, sd] of the ring-averaged stresses [kPa].
 PAPER_PREPARED = {"porosity": 0.383, "sigma_z_kPa": [152.9, 12.0], "sigma_r_kPa": [76.7, 4.9],
                   "sigma_theta_kPa": [76.8, 5.1]}
@@ -258,7 +258,7 @@ def data_file_diameters(path):
 
 
 def rayleigh_time(r, rho=2600.0, G=9e9, nu=0.2):
-    """Rayleigh time of a sphere of radius r (SPEC section 5) [s]."""
+    """Rayleigh time of a sphere of radius r (docs/model.md §5) [s]."""
     return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 

@@ -60,7 +60,7 @@ from .trend import fit_qc_trend, mean_of_last_bands, qc_band_means, virgin_mask
 __all__ = ["ReportInputError", "ReportOptions", "make_report", "read_reference",
            "HEADLINE_NAMES", "STATE_KINDS"]
 
-#: Calibrated NE34 Br range at real size (SPEC 3) [m]; scaled by N.
+#: Calibrated NE34 Br range at real size (docs/model.md §3) [m]; scaled by N.
 D_MIN_REAL = 0.01e-3
 D_MAX_REAL = 0.27e-3
 RHO = 2600.0

@@ -212,7 +212,7 @@ def contact_rows(snap, ids):
 
 
 def snapshot_particle_stress(snap, walls=True, compression_positive=True):
-    """Per-particle stress ``sigma_p = (1/V_p) sum_c s^c (x) F^c`` (SPEC 4.7)
+    """Per-particle stress ``sigma_p = (1/V_p) sum_c s^c (x) F^c`` (docs/model.md §4.7)
     from the pair contacts (both sides) and, with ``walls``, the mesh-wall
     contacts of a snapshot written with ``contacts yes``. Returns (N, 3, 3)
     in particle order [Pa]; compression positive by default."""

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Measurement spheres (SPEC section 4 item 6) as a LIGGGHTS deck block.
+"""Measurement spheres (docs/model.md §4.6) as a LIGGGHTS deck block.
 
 The stress in a sphere of volume V is sigma = (1/V) sum_c F^c (x) L^c over its
 contacts. The block sums V_p sigma_p over the grains whose centres lie in the
@@ -21,7 +21,7 @@ sphere the six components xx yy zz xy xz yz (Pa; the symmetric part).
 `write_sphere_block` writes it to a file a deck can `include` (after the
 block that defines the stress compute, inputs/contacts_local.in);
 `chamber_sphere_centres` places spheres at radii r/R and depths below the
-sample top (SPEC 4.6); `read_sphere_series` reads the output. Command line:
+sample top (docs/model.md §4.6); `read_sphere_series` reads the output. Command line:
 ``crushpost spheres --help``.
 """
 

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Stress measures of the field: invariants, cylindrical components, particle
-and measurement-sphere stresses, and ring volume averages (SPEC 4.6, 4.7).
+and measurement-sphere stresses, and ring volume averages (docs/model.md §4.6, §4.7).
 
 Sign convention: compression positive (geomechanics), unless a function is
 called with ``compression_positive=False``. A contact force ``F^c`` handed to
@@ -127,7 +127,7 @@ def pair_contact_terms(i, j, x, contact_point, force_on_i):
 
 
 def particle_stress(index, s, forces, volumes, compression_positive=True):
-    """Per-particle stress ``sigma_p = (1/V_p) sum_c s^c (x) F^c`` (SPEC 4.7).
+    """Per-particle stress ``sigma_p = (1/V_p) sum_c s^c (x) F^c`` (docs/model.md §4.7).
 
     Parameters
     ----------
@@ -157,7 +157,7 @@ def particle_stress(index, s, forces, volumes, compression_positive=True):
 
 
 def sphere_stress(branch_vectors, forces, volume, compression_positive=True):
-    """Measurement-sphere stress ``sigma = (1/V) sum_c F^c (x) L^c`` (SPEC 4.6).
+    """Measurement-sphere stress ``sigma = (1/V) sum_c F^c (x) L^c`` (docs/model.md §4.6).
 
     Parameters
     ----------
@@ -267,7 +267,7 @@ def sphere_ring_volume(centres, radii, r_in, r_out, z_lo, z_hi,
 
 def ring_average(sigma_p, centres, radii, r_in, r_out, z_lo, z_hi,
                  axis_xy=(0.0, 0.0), frame="cylindrical", sector=360.0):
-    """Volume-averaged stress of one annular ring (SPEC 4.7).
+    """Volume-averaged stress of one annular ring (docs/model.md §4.7).
 
     ``sigma_ring = (1/V_ring) sum_p V_p,in sigma_p`` where ``V_p,in`` is the
     part of particle p inside the ring and ``V_ring = (sector/360) pi

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Trend fit of tip resistance against depth, ``q_c(h) = a (1 - exp(-b h))`` (SPEC 4.5).
+"""Trend fit of tip resistance against depth, ``q_c(h) = a (1 - exp(-b h))`` (docs/model.md §4.5).
 
 ``a`` is the steady-state tip resistance (same unit as ``q_c``, e.g. Pa) and
 ``b`` the inverse of a characteristic depth (1 / unit of ``h``, e.g. 1/m).

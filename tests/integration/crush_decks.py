@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Deck builders and independent analytic answers for the deck-level tests of
-`fix crush/particle` (SPEC sections 2 and 5).
+`fix crush/particle` (docs/model.md §2 and §5).
 
 Everything the tests compare against is computed here in Python from the
-formulas of SPEC section 2, without using the plugin's C++ kernels:
+formulas of docs/model.md §2, without using the plugin's C++ kernels:
 
     1/E*   = (1 - nu_p^2)/E_p + (1 - nu_q^2)/E_q      (a wall: its own E, nu)
     1/R*   = 1/r_p + 1/r_q                            (a wall: R* = r_p)
@@ -13,7 +13,7 @@ formulas of SPEC section 2, without using the plugin's C++ kernels:
     T_R    = pi r sqrt(rho/G) / (0.1631 nu + 0.8766)
     fragments: 6 of r1 = r/(1+sqrt2) at r - r1 on 3 orthogonal axes, 8 of r2
     at r - r2 on the cube diagonals, r2 solved here from the tangency
-    conditions (not copied from the 0.230093 of SPEC; the test checks both).
+    conditions (not copied from the 0.230093 of docs/model.md §2.6; the test checks both).
 
 Note on running: LIGGGHTS 3.8 core code (input_mesh_tri.cpp, fix_mesh.cpp)
 writes to `screen` without checking for NULL, so any deck with a
@@ -32,7 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
 # --------------------------------------------------------------------------
-# SPEC section 3 material (NE34 quartz) and the steel of the pile / platens
+# docs/model.md §3 material (NE34 quartz) and the steel of the pile / platens
 # --------------------------------------------------------------------------
 G_GRAIN = 9.0e9
 NU_GRAIN = 0.2
@@ -50,7 +50,7 @@ FRICTION_GW = 0.5
 
 
 # --------------------------------------------------------------------------
-# analytic model (SPEC section 2)
+# analytic model (docs/model.md §2.1, §2.4)
 # --------------------------------------------------------------------------
 
 def effective_modulus(E_p, nu_p, E_q, nu_q):

@@ -12,14 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
-# SPEC material (NE34 quartz): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa.
+# docs/model.md §3 material (NE34 quartz): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa.
 # Type 2 is the wall material (steel).
 E_GRAIN, NU_GRAIN = 21.6e9, 0.2
 E_WALL, NU_WALL = 200e9, 0.2
 DENSITY = 2600.0
 SEED_FIX = 15485863           # a prime > 10000
 
-# Apollonian fragment radii (SPEC section 2)
+# Apollonian fragment radii (docs/model.md §2.6)
 R1_RATIO = 1.0 / (1.0 + math.sqrt(2.0))      # 0.414214
 
 
@@ -33,7 +33,7 @@ def _small_ratio():
     return 1.0 - u
 
 
-R2_RATIO = _small_ratio()                    # 0.230093 (SPEC)
+R2_RATIO = _small_ratio()                    # 0.230093 (docs/model.md §2.6)
 assert abs(R2_RATIO - 0.230093) < 5e-7
 
 
@@ -43,7 +43,7 @@ def sphere_mass(d, rho=DENSITY):
 
 
 def rayleigh_time(r, rho=DENSITY, E=E_GRAIN, nu=NU_GRAIN):
-    """SPEC section 5: T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
+    """docs/model.md §5: T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
     G = E / (2.0 * (1.0 + nu))
     return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
@@ -180,7 +180,7 @@ def compression_scene(workdir, nx, ny, height, dmin, dmax, nsteps, speed=2.0,
     `processors * 1 1` splits it at 2 ranks.
 
     The time step is dt_frac (default 0.18) of the Rayleigh time of the
-    smallest particle that can occur (SPEC section 5).  The deck prints
+    smallest particle that can occur (docs/model.md §5).  The deck prints
     thermo step atoms f_top[3] f_crush[1..7] every `thermo` steps with full
     precision, writes the events to events.txt and, with dump_every > 0,
     `dump.*.txt` files (id type x y z radius mass f_crush[1] f_crush[2]).

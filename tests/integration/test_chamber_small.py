@@ -140,7 +140,7 @@ def test_snapshots_hold_wall_and_cone_contacts(chamber):
     (their force is the cone force fix jack/pile reports at that step, and the
     last push ends with the cone in contact). The
     per-particle stress written with the particles (compute stress/grain,
-    c_sigma_p) is SPEC's sigma_p over all contacts: crushpost.snapshot
+    c_sigma_p) is the sigma_p of docs/model.md §4.7 over all contacts: crushpost.snapshot
     computes the same from the snapshot's contacts, walls included (1e-9 of
     the largest stress); without the wall contacts it differs."""
     from crushpost.snapshot import list_snapshots, read_snapshot, snapshot_particle_stress

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of the breakage index of `fix crush/particle` and of its
-atom-count check (SPEC section 2; docs/fix_crush_particle.md).
+atom-count check (docs/model.md §2.7-§2.8; docs/fix_crush_particle.md).
 
 a. Br from the outside: a multi-grain compression (crush_multi scene, about
    60 grains of 0.6-1.2 mm with the Br range d_min 0.05 mm, d_max 1.3 mm, a

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Bad input to `fix crush/particle` gets a clear error naming the keyword,
-and the time-step check of SPEC section 5 (dt_check warn|error, dt_frac).
+and the time-step check of docs/model.md §5 (dt_check warn|error, dt_frac).
 
-The time-step answers are computed here from SPEC section 5:
+The time-step answers are computed here from docs/model.md §5:
 T_R = pi r sqrt(rho/G) / (0.1631 nu + 0.8766) for the smallest particle that
 can ever exist: the smallest fragment (r2 = 0.230093 r) of the smallest
 breakable particle, a breakable particle being as small as d_comm
@@ -225,7 +225,7 @@ def test_newton_on(tmp_path, nprocs):
 
 
 # ---------------------------------------------------------------------------
-# time step check (SPEC section 5)
+# time step check (docs/model.md §5)
 # ---------------------------------------------------------------------------
 
 def smallest_radius(d_comm, grains=(D_GRAIN,), d_frag_min=0.0):

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix crush/particle` in multi-grain compressions, at 1
-and 2 MPI ranks (SPEC section 2: exact mass accounting "at every step, on any
-rank count"; draws that do not depend on the number of ranks).
+and 2 MPI ranks (docs/model.md §2.7: exact mass accounting at every step, on any
+rank count; draws that do not depend on the number of ranks).
 
 Scenes (crush_multi.compression_scene): columns of grains with a log-uniform
 grading 0.6-1.2 mm, var 0.36 unless said, compressed by a flat mesh platen

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Deck-level tests of `fix crush/particle` on one or two grains (SPEC section 2).
+"""Deck-level tests of `fix crush/particle` on one or two grains (docs/model.md §2).
 
-Every expected number is computed here in Python from the SPEC formulas
+Every expected number is computed here in Python from the formulas of docs/model.md §2
 (see crush_decks.py), never taken from a previous run.
 
 Scene ("stack"): grains stacked on the z axis at x = y = 0, the lowest one
@@ -20,7 +20,7 @@ position of the parent at that moment (after the position update of step
 n+1), and F_n / F_lim of the contact at the end of step n.
 
 a. one grain, var 0, N = 1 (d = 1 mm) and N = 39 (d = 8.19 mm = 39 d50),
-   d_comm = 0.55 d (SPEC ratio: the fragments cannot break again),
+   d_comm = 0.55 d (the ratio of docs/model.md §3: the fragments cannot break again),
    mesh platen critical and primitive wall critical: one break; F_lim of the
    event = Python F_lim (1e-6); F_n = Hertz force of the dumped geometry at
    step n (1e-6), within 1 % above F_lim, and the previous step was below
@@ -87,7 +87,7 @@ class Stack:
         self.dt = dt_frac * cd.rayleigh_time(dt_radius if dt_radius else self.r.min())
         self.gap = gap if gap is not None else 0.01 * self.d.max()
         self.restitution = restitution
-        # SPEC section 3: d_comm = 0.55 d50; with the grain as d50 the fragments
+        # docs/model.md §3: d_comm = 0.55 d50; with the grain as d50 the fragments
         # (0.41 d and 0.23 d) are below it and the single break cannot cascade
         self.d_comm = d_comm if d_comm is not None else 0.55 * self.d.min()
         self.crush_extra = crush_extra
@@ -256,7 +256,7 @@ def _contact_ratios(case, frame, step):
 # ---------------------------------------------------------------------------
 
 def test_python_reference_values():
-    """The Python answers agree with the numbers printed in SPEC."""
+    """The Python answers agree with the numbers given in docs/model.md."""
     assert cd.E_GRAIN == pytest.approx(21.6e9, rel=1e-15)
     assert cd.R1_RATIO == pytest.approx(0.414214, abs=1e-6)
     assert cd.R2_RATIO == pytest.approx(0.230093, abs=1e-6)
@@ -371,7 +371,7 @@ def _check_fragments(case, ev, frames, nprocs, res):
     assert np.all(np.sum(np.abs(dLS - (r1 + r2)) < 1e-9 * r, axis=1) == 3)
     dLL = np.linalg.norm(XL[:, None, :] - XL[None, :, :], axis=2)
     assert np.all(np.sum(np.abs(dLL - 2 * r1) < 1e-9 * r, axis=1) == 4)
-    # the frame is rotated (SPEC: random rotation per event), not the box axes
+    # the frame is rotated (docs/model.md §2.6: random rotation per event), not the box axes
     assert np.max(np.abs(UL)) < 1 - 1e-6
 
     # same velocity as the parent (undo the half kick of final_integrate)

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Deck-level tests of `fix damp/local` (PFC-style local damping, SPEC section 2).
+"""Deck-level tests of `fix damp/local` (PFC-style local damping, docs/model.md §2.3).
 
     F_i <- F_i - alpha * |F_i| * sign(v_i),   sign(0) = 0,   0 <= alpha < 1
 
@@ -30,7 +30,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
-# SPEC material (NE34 quartz): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa
+# docs/model.md §3 material (NE34 quartz): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa
 YOUNG = 21.6e9
 POISSON = 0.2
 FRICTION = 0.275

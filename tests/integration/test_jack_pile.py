@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level tests of `fix jack/pile`, the jacking controller of the pile
-(SPEC section 4 item 5), driving the cone and shaft meshes written by
+(docs/model.md §4.5), driving the cone and shaft meshes written by
 crushpost.meshes through stock `fix move/mesh ... linear/variable`.
 
 a. No grains (1 and 2 MPI ranks): the head force is exactly zero and the

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Measurement spheres (SPEC section 4 item 6, issue 5 item 7): in a homogeneous,
+"""Measurement spheres (docs/model.md §4.6, issue 5 item 7): in a homogeneous,
 isotropically compressed packing a sphere reads the boundary stress within 10 %,
 at 2 MPI ranks.
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""The oedometer scene (examples/oedometer, SPEC section 4 item 2) end to end,
+"""The oedometer scene (examples/oedometer, docs/model.md §4.2) end to end,
 in a small cell: radius 3.5 d50, height 6 d50 (about 370 grains at N = 39),
 a short preparation (15 radius-expansion chunks), loading to 5 MPa, unloading.
 The driver examples/oedometer/run.py runs exactly as a user runs it, twice:

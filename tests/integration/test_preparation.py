@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Sample preparation of the calibration chamber (SPEC section 4 items 1 and
-4; docs/preparation.md): examples/cpt_demo/in.cpt with the jacking left out
+"""Sample preparation of the calibration chamber (docs/model.md §4.1 and
+§4.4; docs/preparation.md): examples/cpt_demo/in.cpt with the jacking left out
 (jacking_block none), i.e. inputs/chamber_core.in, prepare_expand.in and
 chamber_servo.in.
 
@@ -9,7 +9,7 @@ chamber_servo.in.
    ranks, with the decks' own preparation settings: the test gives the deck
    no n_target, so the deck prepares what every chamber deck prepares
    (inputs/prepare_expand.in's default), and the test checks it against
-   SPEC's 0.385 (NE34 at Dr 72 %, N_TARGET here, written independently of
+   the 0.385 of docs/model.md §4.1 (NE34 at Dr 72 %, N_TARGET here, written independently of
    the deck). After the three stages (radius expansion to the core porosity
    0.385 at 5 kPa, 1-D compression to 150 kPa, radial servo to 76 kPa):
    - the deck printed EXPANDED, COMPRESSED and "CHAMBER prepared" once each,
@@ -21,7 +21,7 @@ chamber_servo.in.
    - at the end the boundary stresses are within 3 % of 150 and 76 kPa, as
      the deck's chunk means and as the mean of the thermo rows of the last
      chunk (an independent reading of the same walls);
-   - the core porosity is within 0.005 of SPEC's 0.385, both as the deck
+   - the core porosity is within 0.005 of the 0.385 of docs/model.md §4.1, both as the deck
      measures it and as crushpost.prep computes it from the HDF5 snapshot
      of the prepared sample with exact sphere/cylinder volumes; the two
      agree within 1e-3 (the deck's cap approximation). The deck stops on
@@ -69,7 +69,7 @@ from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 N = 39
 D50 = 0.21e-3 * N
 R_PILE = 0.018
-# SPEC 4.1: NE34 at Dr 72 %; the decks' default n_target and n_tol
+# docs/model.md §4.1: NE34 at Dr 72 %; the decks' default n_target and n_tol
 # (inputs/prepare_expand.in) must prepare this.
 N_TARGET, N_TOL = 0.385, 0.005
 # ctest's budget: the small chamber (timeout 1800 s), the unreachable target

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Rotation inhibition (SPEC section 2): with `fix nve` a grain translates but
+"""Rotation inhibition (docs/model.md §2.2): with `fix nve` a grain translates but
 never rotates. On a rigid plane inclined at theta (gravity tilted instead of the
 plane) it slides with a = g (sin theta - mu cos theta) when tan theta > mu and
 stays put when tan theta < mu. With `fix nve/sphere` the same grain rolls, with

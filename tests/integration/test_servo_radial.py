@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Deck-level tests of `fix servo/radial` (SPEC section 4 item 4, issue 5
+"""Deck-level tests of `fix servo/radial` (docs/model.md §4.4, issue 5
 item 1): the lateral wall of a small chamber servo-controlled to a radial
 stress, then held at a fixed radius by `unfix`.
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Deck-level tests of the strength draws of `fix crush/particle` (SPEC section 2):
+"""Deck-level tests of the strength draws of `fix crush/particle` (docs/model.md §2.5):
 
     sigma_lim = sigma_lim0 * f * (d / (N d0)) ^ (-3/m),   f ~ Normal(1, var),
 

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""`compute stress/grain`: the per-particle stress of SPEC section 4 item 7,
+"""`compute stress/grain`: the per-particle stress of docs/model.md §4.7,
 sigma_p = -(1/V_p) sum_c s^c (x) F^c over every contact, walls included
 (docs/compute_stress_grain.md), as the chamber decks define it
 (inputs/contacts_local.in: c_sigma_p from c_pgl and c_wgl).
@@ -7,7 +7,7 @@ sigma_p = -(1/V_p) sum_c s^c (x) F^c over every contact, walls included
 1. One grain squeezed between two steel mesh plates (no gravity, no damping):
    at every output step sigma_zz = 3 [(r - d_t) F_t + (r - d_b) F_b] / (4 pi r^3)
    with the Hertz forces F of the overlaps d from the dumped position and the
-   top plate's position (SPEC section 2; E* of grain and steel), to 1e-9;
+   top plate's position (docs/model.md §2.1; E* of grain and steel), to 1e-9;
    that is 3 F / (2 pi r^2) to first order in d/r (within 3 % here); every
    other component (skew part included) is zero.
    The same with a fragment (r_s = 0.23 r, the small Apollonian fragment) on
@@ -141,8 +141,8 @@ def stack(request, tmp_path_factory):
 
 def stack_stress_zz(radii, z, z_top):
     """sigma_zz of each grain of a vertical stack between the plate z = 0 and
-    the plate z_top: 3 sum_c |s_c| F_c / (4 pi r^3), Hertz forces (SPEC
-    section 2), s_c to the plate or to LIGGGHTS' pair contact point."""
+    the plate z_top: 3 sum_c |s_c| F_c / (4 pi r^3), Hertz forces (docs/model.md
+    §2.1), s_c to the plate or to LIGGGHTS' pair contact point."""
     n = len(radii)
     out = np.zeros(n)
     # bottom and top plates

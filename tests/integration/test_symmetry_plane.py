@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """A symmetry plane of a chamber sector acts exactly as the mirror image of the
-grain touching it (SPEC section 4 item 4, issue: a grain pressed against a
+grain touching it (docs/model.md §4.4, issue: a grain pressed against a
 plane of material type 3 broke at 22 % more platen force than against its
 mirror grain).
 
@@ -15,7 +15,7 @@ crushpost.chamber.symmetry_planes, in the deck's one mesh wall fix.
 * mirror: the grain and its mirror image at -y, pressed together by two
   steel platens moving symmetrically (chamber_sym_360.in: no plane).
 
-Independent answers (Hertz, SPEC section 2): the plane contact at overlap
+Independent answers (Hertz, docs/model.md §2.1): the plane contact at overlap
 delta, R* = r, E* = E/(1 - nu^2), gives F = 4/3 E* sqrt(R*) delta^1.5; the
 mirror contact at overlap 2 delta, R* = r/2, E* = E/(2(1 - nu^2)), gives the
 same F; both have F_lim = (pi sigma_lim)^3 (3 R*/(4 E*))^2 with the same

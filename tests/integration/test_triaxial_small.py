@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Deck-level test of the drained triaxial scene (examples/triaxial/in.triaxial,
-SPEC section 4 item 3) on a small specimen.
+docs/model.md §4.3) on a small specimen.
 
 A 6 x 6 x 6 d50 cuboid of a few hundred unbreakable NE34 grains (N = 39) is
 prepared by radius expansion (shortened), consolidated isotropically to

@@ -146,7 +146,7 @@ RHO = 2600.0
 
 
 def F_direct(x, d, m, lost, d_top, dropped_d, dropped_m, w, fractal=True):
-    """Mass fraction finer than x written out from the SPEC formula: particles
+    """Mass fraction finer than x written out from the formula of docs/model.md §2.8: particles
     and dropped fragments at their size, each break's unfilled volume spread as
     (x^k - d_min^k) / (d_top^k - d_min^k) over [d_min, d_top] (fractal) or
     finer than d_min."""

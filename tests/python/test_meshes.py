@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Pile meshes (crushpost.meshes): the 60-degree cone tip and the cylindrical
-shaft as separate ASCII STL files (SPEC section 4 item 5), and the CLI entry
+shaft as separate ASCII STL files (docs/model.md §4.5), and the CLI entry
 ``python3 -m crushpost pile``.
 
 Checked on the files as written (vertices printed with 12 significant digits):
@@ -26,7 +26,7 @@ from crushpost.cli import main
 from crushpost.meshes import (cone_height, cone_tip_triangles, default_shaft_rings,
                               plate_triangles, read_stl, shaft_triangles, write_pile_stl)
 
-R = 0.018           # SPEC pile radius (m)
+R = 0.018           # pile radius (m), docs/model.md §4.5
 TIP_Z = 0.05
 L_SHAFT = 0.2
 RTOL_FILE = 1e-10   # 12 significant digits in the STL text

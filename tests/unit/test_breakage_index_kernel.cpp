@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// Unit tests for crush_breakage_index_kernel.h (SPEC section 2, Einav 2007
+// Unit tests for crush_breakage_index_kernel.h (docs/model.md §2.8, Einav 2007
 // breakage index). The closed forms are checked against direct numerical
 // quadrature over ln d of the grading curves they integrate.
 
@@ -20,11 +20,11 @@ using namespace CrushKernels;
 
 namespace {
 
-// SPEC section 3: d_max = 0.27 mm, d_min = 0.01 mm (real size, N = 1).
+// docs/model.md §3: d_max = 0.27 mm, d_min = 0.01 mm (real size, N = 1).
 const double kDmin = 0.01e-3, kDmax = 0.27e-3;
 
 // Fractal limit grading F_u(d) = (d^k - d_min^k)/(d_max^k - d_min^k), k = 3 - omega
-// (SPEC section 2), written as expm1(k ln(d/d_min)) / expm1(k ln(d_max/d_min)),
+// (docs/model.md §2.8), written as expm1(k ln(d/d_min)) / expm1(k ln(d_max/d_min)),
 // which is exact algebra and stays accurate for small |k|; log-uniform at k = 0.
 double fractal_grading(double d, double d_min, double d_max, double omega)
 {
@@ -94,7 +94,7 @@ TEST(BreakageIndexKernel, FractalGradingIntegralMatchesQuadrature)
   for (double omega : {2.6, 3.0, 2.0}) {
     const double q = trapezoid_fractal(kDmin, kDmax, omega, n);
     EXPECT_NEAR(fractal_grading_integral(kDmin, kDmax, omega), q, 1e-8) << "omega " << omega;
-    // Scaled by N = 39 (SPEC: d_max, d_min scale with N): integral over ln d unchanged.
+    // Scaled by N = 39 (docs/model.md §2.8: d_max, d_min scale with N): integral over ln d unchanged.
     const double q39 = trapezoid_fractal(39.0 * kDmin, 39.0 * kDmax, omega, n);
     EXPECT_NEAR(fractal_grading_integral(39.0 * kDmin, 39.0 * kDmax, omega), q39, 1e-8);
     EXPECT_NEAR(q39, q, 1e-8);
@@ -229,7 +229,7 @@ TEST(BreakageIndexKernel, GradingOnFractalLimitGivesBrOne)
 
 namespace {
 
-// Fractal fines of one break written out from the SPEC formula: mass m spread
+// Fractal fines of one break written out from the formula of docs/model.md §2.8: mass m spread
 // over [d_min, d_f] with F(x) = (x^k - d_min^k) / (d_f^k - d_min^k), k = 3 - omega
 // (log-uniform at omega = 3).
 struct FractalPart { double m, d_f; };

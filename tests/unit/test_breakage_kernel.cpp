@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// Unit tests for crush_breakage_kernel.h (SPEC sections 2 and 5): Russell &
+// Unit tests for crush_breakage_kernel.h (docs/model.md §2 and §5): Russell &
 // Muir Wood limit force, Hertz contact, size effect, seeded strength scatter,
 // Rayleigh time. Every expected value is derived independently of the kernel
 // formula it checks (numerical root finding, closed-form statistics, values
@@ -21,7 +21,7 @@ namespace {
 
 const double kPiRef = 3.14159265358979323846;
 
-// Calibrated NE34 parameters (SPEC section 3) and steel pile.
+// Calibrated NE34 parameters (docs/model.md §3) and steel pile.
 const double kG = 9e9, kNu = 0.2, kE = 2.0 * kG * (1.0 + kNu);  // 21.6 GPa
 const double kEsteel = 2.0 * 85e9 * 1.2;                          // 204 GPa
 const double kSigma0 = 1.9e9, kM = 10.0, kD0 = 2e-3, kVar = 0.36;
@@ -458,7 +458,7 @@ TEST(BreakageKernel, PairLimitReachedMatchesOverlapTest)
 }
 
 // The margin is the overlap still missing: adding it to the overlap reaches
-// the limit overlap of SPEC exactly.
+// the limit overlap of docs/model.md §2.4 exactly.
 TEST(BreakageKernel, PairLimitMarginReachesLimitOverlap)
 {
   const double rp = 1.2e-3, rq = 0.7e-3, sigma = 3e8, E = 2.4e10;

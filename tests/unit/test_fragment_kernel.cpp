@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-2.0-or-later
-// Unit tests for crush_fragment_kernel.h (SPEC section 2): 14-sphere
+// Unit tests for crush_fragment_kernel.h (docs/model.md §2.6): 14-sphere
 // Apollonian fragmentation and the seeded random rotation of its frame.
 // Geometry is checked from the returned radii and centres (tangency, no
 // overlap, containment, volume, centre of mass), not from the ratio formulas.
@@ -161,7 +161,7 @@ TEST(FragmentKernel, VolumeFraction)
     apollonian_fragments(r, radius, offset);
     double v = 0.0;
     for (int k = 0; k < kFragments; ++k) v += std::pow(radius[k] / r, 3);
-    EXPECT_NEAR(v, 0.5239, 5e-5);                         // SPEC: 52.39 %
+    EXPECT_NEAR(v, 0.5239, 5e-5);                         // docs/model.md §2.6: 52.39 %
     EXPECT_NEAR(fragment_volume_fraction(), v, 1e-12);
   }
   EXPECT_NEAR(fragment_volume_fraction(), 0.523861230454921, 1e-12);  // hand value
