@@ -11,26 +11,17 @@ checkout every file but build/ and deps/) named *.cpp, *.h, *.py, *.cmake,
 CMakeLists.txt, *.sh, *.in or in.*, and the files under scripts/ and .ci/
 that start with #!."""
 
-import os
 import re
-import subprocess
 from pathlib import Path
+
+from repo_files import tracked_files
 
 REPO = Path(__file__).resolve().parents[2]
 LINE = re.compile(r"^(//|#) SPDX-License-Identifier: GPL-2\.0-or-later\s*$")
 
 
 def _files():
-    try:
-        out = subprocess.run(["git", "ls-files", "-z"], cwd=REPO, capture_output=True, check=True,
-                             timeout=60).stdout.decode()
-        names = [n for n in out.split("\0") if n]
-    except (OSError, subprocess.CalledProcessError):
-        names = []
-        for d, dirs, files in os.walk(REPO):
-            if Path(d) == REPO:
-                dirs[:] = [x for x in dirs if x not in ("build", "deps", ".git")]
-            names += [str((Path(d) / f).relative_to(REPO)) for f in files]
+    names = tracked_files(REPO)
     found = []
     for n in names:
         p = REPO / n

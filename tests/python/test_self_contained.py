@@ -17,10 +17,10 @@ b. Every reference to a section of the model, ``docs/model.md §4.7``,
 
 Each failure lists every offending file:line."""
 
-import os
 import re
-import subprocess
 from pathlib import Path
+
+from repo_files import tracked_files
 
 REPO = Path(__file__).resolve().parents[2]
 MODEL = "docs/model.md"
@@ -68,24 +68,10 @@ EXPECTED_HEADINGS = [
 ]
 
 
-def _tracked_files():
-    try:
-        out = subprocess.run(["git", "ls-files", "-z"], cwd=REPO, capture_output=True, check=True,
-                             timeout=60).stdout.decode()
-        names = [n for n in out.split("\0") if n]
-    except (OSError, subprocess.CalledProcessError):
-        names = []
-        for d, dirs, files in os.walk(REPO):
-            if Path(d) == REPO:
-                dirs[:] = [x for x in dirs if x not in ("build", "deps", ".git")]
-            names += [str((Path(d) / f).relative_to(REPO)) for f in files]
-    return sorted(names)
-
-
 def _text_files():
     """(relative path, text) of every tracked text file but LICENSE."""
     out = []
-    for rel in _tracked_files():
+    for rel in tracked_files(REPO):
         if rel == "LICENSE":
             continue
         p = REPO / rel
