@@ -14,8 +14,10 @@ oedometer  grains (d 0.8-1.2 mm, var 0.36) on a loose cubic lattice in a
            grains, local damping 0.05, a frictionless steel platen pushed
            down at constant speed until the vertical stress passes
            --sigma (100 MPa); fragments of fragments break again
-           (d_comm 0.35 mm; fragments finer than d_frag_min 0.3 mm go to
-           fines). Reports: atoms lost (fix crush/particle stops on a loss),
+           (d_comm 0.35 mm; fragments finer than d_frag_min 0.14 mm go to
+           fines: d_frag_min <= 0.414 d_comm, so that every break keeps its
+           6 large fragments, the atom count never falls and the deck runs
+           under `thermo_modify lost error`). Reports: atoms lost (fix crush/particle stops on a loss),
            the mass balance, breaks, and the energy budget
                W_platen = dE_elastic + dE_kinetic + D_damping + D_friction + R_breaks
            integrated every step (W_platen from the platen force,
@@ -155,7 +157,7 @@ def crush_line(var, d_comm, extra):
 # --------------------------------------------------------------------------
 
 def oedometer(n=(6, 6, 6), d_mean=1.0e-3, spread=0.2, spacing=1.25e-3, speed=2.0, sigma=100e6,
-              var=0.36, d_comm=0.35e-3, d_frag_min=0.3e-3, chunk=2000, max_steps=400000, seed=1):
+              var=0.36, d_comm=0.35e-3, d_frag_min=0.14e-3, chunk=2000, max_steps=400000, seed=1):
     rng = np.random.default_rng(seed)
     pos = lattice(n, spacing)
     diam = d_mean * (1.0 - spread + 2.0 * spread * rng.random(len(pos)))
@@ -183,11 +185,7 @@ variable v_max equal f_crush[13]
 variable M_p equal f_crush[4]
 variable M_f equal f_crush[3]
 thermo_style custom step atoms f_top[3] c_ke v_E_el f_damp v_D_fr v_R_br f_crush[1] v_M_p v_M_f v_v_max v_sv
-# d_frag_min 0.3 mm > 0.414 d_comm: a grain that goes entirely to fines lowers
-# the atom count on purpose, which stock `lost error` takes for lost atoms;
-# fix crush/particle's own count stops the run on a real loss
-# (docs/liggghts-patches.md)
-thermo_modify format float %.17g lost ignore
+thermo_modify format float %.17g lost error
 thermo 1
 label loop
 run {chunk}
@@ -404,15 +402,18 @@ def main(argv=None):
     results = {}
     if os.path.exists(a.out):
         results = json.load(open(a.out))
+    keys = []
     for name in a.scenes:
         text, files, info = SCENES[name]()
         if a.processors:
             text = text.replace("newton off\n", "newton off\nprocessors %s\n" % a.processors)
         key = name if a.np == 1 else "%s_np%d" % (name, a.np)
+        keys.append(key)
         wd = os.path.join(a.work, key)
         shutil.rmtree(wd, ignore_errors=True)
         log, wall = run_deck(text, files, wd, a.liggghts, a.np)
-        res = {"ranks": a.np, "wall_s": round(wall, 1), "dt": info["dt"], "grains": info["grains"]}
+        res = {"ranks": a.np, "wall_s": round(wall, 1), "dt": info["dt"], "grains": info["grains"],
+               "date": time.strftime("%Y-%m-%d")}
         res.update(event_summary(read_events(os.path.join(wd, "events.txt"))))
         if name.startswith("oedometer"):
             res.update(analyse_oedometer(thermo_rows(log), info))
@@ -420,7 +421,8 @@ def main(argv=None):
         results[key] = res
         print(key, json.dumps(res, indent=1))
     cmds = results.setdefault("_commands", {})
-    cmds[", ".join(a.scenes)] = "/usr/bin/python3 bench/extreme_loading/run.py " + " ".join(argv or sys.argv[1:])
+    # keyed by the results' keys, so that a scene run at 1 and at 2 ranks keeps both commands
+    cmds[", ".join(keys)] = "/usr/bin/python3 bench/extreme_loading/run.py " + " ".join(argv or sys.argv[1:])
     with open(a.out, "w") as f:
         json.dump(results, f, indent=1, sort_keys=True)
 

@@ -67,8 +67,18 @@ CROSS = "chamber_spread.models.crushable_ne34"
 RIGID = "chamber_spread.models.unbreakable"
 PREP = "bench/prep/results.json"
 WALL16 = "bench/icount/results_scaling_wall_16core.json"
+XL = "bench/extreme_loading/results.json"
 
 ENTRIES = [
+    # --- energy budget and extreme loading (bench/extreme_loading/results.json)
+    N("docs/stability.md", r"closes to \*\*([\d.]+) %\*\* of the platen work at the end", XL,
+      "oedometer.budget_residual_rel", -100.0),
+    N("docs/stability.md", r"of its final value\) with ([\d,]+) breaks to", XL, "oedometer.breaks"),
+    N("docs/stability.md", r"to [\d.]+ % \([\d.]+ %\) with ([\d,]+) breaks, and", XL, "oedometer_big.breaks"),
+    N("docs/stability.md", r"\(0\.36 %\) with ([\d,]+) breaks in the", XL, "oedometer_small.breaks"),
+    N("docs/stability.md", r"\| oedometer to 100 MPa \(above\) \| 216 \| [\d,]+ \| 3 \| \d+ \(platen, walls\) \| 0 \| [\d.e-]+ \| (\d+) m/s",
+      XL, "oedometer.largest_fragment_speed_m_s"),
+    N("docs/stability.md", r"\| the test's scene at 2 ranks [^|]*\| 64 \| (\d+) \|", XL, "oedometer_small_np2.breaks"),
     # --- error against run time: the pooled run-to-run spread (results_table.json)
     N("docs/studies/error-vs-runtime.md", r"\| crushable \(4 runs\) \| ([\d.]+), sd [\d.]+ %", EVR_TABLE,
       CROSS + ".mean.qc_steady_MPa"),
