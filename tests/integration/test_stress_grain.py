@@ -116,10 +116,10 @@ run {steps}
 STACKS = {"grain": [R1], "fragment_on_grain": [R1, R_FRAG]}
 
 
-@pytest.fixture(scope="module", params=sorted(STACKS))
-def stack(request, tmp_path_factory):
-    radii = STACKS[request.param]
-    wd = tmp_path_factory.mktemp(request.param)
+def run_stack(wd, radii):
+    """The stack of `radii` between the two plates, run in the folder `wd`:
+    (radii, frames, z_top_at) as test_stack_between_plates checks it (also
+    the smoke run of test_install_tree.py)."""
     write_stl(wd / "bottom.stl", plate_triangles(0.015, 0.0), "bottom")
     # touching, then the plates' overlap PRESS shared out
     z = np.cumsum(2 * np.array(radii)) - np.array(radii) - PRESS / (2 * len(radii))
@@ -137,6 +137,11 @@ def stack(request, tmp_path_factory):
     th = res.thermo[0]
     z_top_at = dict(zip(th["Step"].astype(int), th["v_ztop"]))
     return np.array(radii), frames, z_top_at
+
+
+@pytest.fixture(scope="module", params=sorted(STACKS))
+def stack(request, tmp_path_factory):
+    return run_stack(tmp_path_factory.mktemp(request.param), STACKS[request.param])
 
 
 def stack_stress_zz(radii, z, z_top):
