@@ -483,8 +483,8 @@ def main(argv=None):
                    "density_scale, docs/fix_crush_particle.md); 0 = off. The time step --dt "
                    "stays as given")
     p.add_argument("--d-comm-ratio", type=float, default=0.55,
-                   help="comminution limit d_comm / d50 (docs/model.md §3: 0.55); grains at or "
-                   "below d_comm do not break")
+                   help="comminution limit d_comm / d50 (docs/model.md §3: 0.55); grains finer than "
+                   "d_comm do not break (a grain breaks when d >= d_comm)")
     p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
                    help="keywords of the criterion reading given to fix crush/particle "
                    "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "

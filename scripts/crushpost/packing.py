@@ -4,7 +4,8 @@
 The grading of Fontainebleau NE34 (docs/model.md §3: d50 = 0.21 mm, coefficient
 of uniformity Cu = d60/d10 about 1.47) is represented by a log-normal grading
 *by mass* with median d50 and ln-standard deviation
-``SIGMA_LN = ln(Cu) / (z60 - z10)``, truncated at +-2 SIGMA_LN. Scaling by N
+``SIGMA_LN = ln(Cu) / (z60 - z10)``, truncated at +-2.5 SIGMA_LN about the
+median (``TRUNCATE``, in the mass-weighted variable). Scaling by N
 multiplies d50 and keeps the shape. A log-normal by mass is a log-normal by
 number with median ``d50 exp(-3 SIGMA_LN^2)`` and the same SIGMA_LN.
 """
