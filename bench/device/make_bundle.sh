@@ -3,7 +3,7 @@
 # Pack build/liggghts with every shared library it and Open MPI need (glibc
 # and the dynamic loader included) into one relocatable tarball, so that the
 # benchmarks can run on a machine that has neither LIGGGHTS nor MPI (the
-# 16-core machine used for the scaling measurements in docs/cpt.md and
+# 16-core machine used for the scaling measurements in docs/studies/cpt-cost.md and
 # docs/studies/performance.md). Usage: bench/device/make_bundle.sh OUT.tar.xz
 # On the target: tar xf OUT.tar.xz -C DIR; export CRUSH_BUNDLE=DIR/bundle; DIR/bundle/bin/mpirun -np 4 DIR/bundle/bin/liggghts -in ...
 set -euo pipefail

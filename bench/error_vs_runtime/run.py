@@ -118,7 +118,7 @@ SMOKE_OEDO = {"R_d50": 3.0, "H_d50": 4.0, "sv_max": 35e6, "n_target": 0.40}
 # planning estimates (--list): grains per m^3 of sample at N = 39, from the
 # demo chamber (3,132 grains in pi 0.06^2 0.1 m^3 at core porosity 0.385),
 # steps of the preparation (the demo's: about 2e5), and the 2-rank rate of
-# this machine (docs/cpt.md: 3.8e6 particle-steps per core-second)
+# this machine (docs/studies/cpt-cost.md: 3.8e6 particle-steps per core-second)
 GRAINS_PER_M3_N39 = 3132 / (math.pi * 0.06 ** 2 * 0.1)
 PREP_STEPS = 2.0e5
 RATE_PER_CORE_S = 3.8e6

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Extreme loading and the energy budget of breaks (issue 12, items 1 and 3;
-docs/stability.md, "Energy of breaks" and "Extreme loading").
+docs/stability.md and the study docs/studies/stability.md, "Energy of breaks",
+"Energy budget" and "Extreme loading").
 
     /usr/bin/python3 bench/extreme_loading/run.py            # all scenes, results.json here
     /usr/bin/python3 bench/extreme_loading/run.py --scenes oedometer --np 2

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""Preparation study (docs/preparation.md): how close the chamber preparation
+"""Preparation study (docs/studies/preparation.md; summary in
+docs/preparation.md): how close the chamber preparation
 gets to the paper's initial state, and what it costs.
 
     /usr/bin/python3 bench/prep/run.py --work /tmp/prep_study [--np 2] [--cases NAME ...] [--force]

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """How much a run boundary (a split `run`, or write_restart + read_restart)
-perturbs a crushing compression (docs/stability.md, "Parallel edge cases").
+perturbs a crushing compression (docs/studies/stability.md, "Parallel edge cases").
 
 The periodic scene of tests/integration/test_parallel_edges.py at 1 rank,
 to step 12400, with dumps of v at steps 12001-12010 and every 50 steps after:

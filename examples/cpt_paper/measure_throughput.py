@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Throughput of the chamber deck in its jacking phase (crushable grains), for
-the cost estimate of the paper runs in docs/cpt.md.
+the cost estimate of the paper runs in docs/cpt.md ("Cost"; the measurements:
+docs/studies/cpt-cost.md).
 
     examples/cpt_paper/measure_throughput.py --out /tmp/tp --np 1 2 [--R-ch 0.108 --H-ch 0.2]
 

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """Parallel edge cases of `fix crush/particle` (issue 12, item 4; results in
-docs/stability.md, section "Parallel edge cases").
+docs/studies/stability.md, section "Parallel edge cases").
 
 Scenes are crush_multi.compression_scene (columns of grains pressed by a
 descending mesh platen, see test_crush_parallel.py), at 4 MPI ranks,
@@ -27,7 +27,7 @@ b. restart at another rank count: the periodic scene at 1 rank writes restart
    exactly and the mass to 1e-14 at the restart step, mass balance over the
    whole run, the next N_AFTER events (steps, parent tags, generations,
    partner, F_lim; F_n to F_N_RTOL_AFTER and positions to 1e-9 m: a run
-   boundary perturbs fragment contacts, see docs/stability.md), the counters
+   boundary perturbs fragment contacts, see docs/studies/stability.md), the counters
    until then, the strength and generation of every initial grain and of
    every fragment of an event both runs share in the final dumps, and the tag
    bookkeeping of the final dump against all events since step 0.

@@ -70,15 +70,28 @@ WALL16 = "bench/icount/results_scaling_wall_16core.json"
 XL = "bench/extreme_loading/results.json"
 
 ENTRIES = [
-    # --- energy budget and extreme loading (bench/extreme_loading/results.json)
+    # --- energy budget and extreme loading (bench/extreme_loading/results.json):
+    # the reference page docs/stability.md quotes the headline numbers, the
+    # study docs/studies/stability.md the tables
     N("docs/stability.md", r"closes to \*\*([\d.]+) %\*\* of the platen work at the end", XL,
       "oedometer.budget_residual_rel", -100.0),
     N("docs/stability.md", r"of its final value\) with ([\d,]+) breaks to", XL, "oedometer.breaks"),
     N("docs/stability.md", r"to [\d.]+ % \([\d.]+ %\) with ([\d,]+) breaks, and", XL, "oedometer_big.breaks"),
     N("docs/stability.md", r"\(0\.36 %\) with ([\d,]+) breaks in the", XL, "oedometer_small.breaks"),
-    N("docs/stability.md", r"\| oedometer to 100 MPa \(above\) \| 216 \| [\d,]+ \| 3 \| \d+ \(platen, walls\) \| 0 \| [\d.e-]+ \| (\d+) m/s",
+    N("docs/stability.md", r"MPa \(216 grains, ([\d,]+) breaks\)", XL, "oedometer.breaks"),
+    N("docs/stability.md", r"9 x 9 x 9 version \(729 grains, ([\d,]+) breaks\)", XL, "oedometer_big.breaks"),
+    N("docs/stability.md", r"fragments up to (\d+) m/s;", XL, "oedometer.largest_fragment_speed_m_s"),
+    N("docs/studies/stability.md", r"closes to \*\*([\d.]+) %\*\* of the platen work at the end", XL,
+      "oedometer.budget_residual_rel", -100.0),
+    N("docs/studies/stability.md", r"of its final value\) with ([\d,]+) breaks to", XL, "oedometer.breaks"),
+    N("docs/studies/stability.md", r"to [\d.]+ % \([\d.]+ %\) with ([\d,]+) breaks, and", XL,
+      "oedometer_big.breaks"),
+    N("docs/studies/stability.md", r"\(0\.36 %\) with ([\d,]+) breaks in the", XL, "oedometer_small.breaks"),
+    N("docs/studies/stability.md",
+      r"\| oedometer to 100 MPa \(above\) \| 216 \| [\d,]+ \| 3 \| \d+ \(platen, walls\) \| 0 \| [\d.e-]+ \| (\d+) m/s",
       XL, "oedometer.largest_fragment_speed_m_s"),
-    N("docs/stability.md", r"\| the test's scene at 2 ranks [^|]*\| 64 \| (\d+) \|", XL, "oedometer_small_np2.breaks"),
+    N("docs/studies/stability.md", r"\| the test's scene at 2 ranks [^|]*\| 64 \| (\d+) \|", XL,
+      "oedometer_small_np2.breaks"),
     # --- error against run time: the pooled run-to-run spread (results_table.json)
     N("docs/studies/error-vs-runtime.md", r"\| crushable \(4 runs\) \| ([\d.]+), sd [\d.]+ %", EVR_TABLE,
       CROSS + ".mean.qc_steady_MPa"),
@@ -117,7 +130,8 @@ ENTRIES = [
       CROSS + ".rel_std.qc_steady_MPa", 100.0),
     N("docs/report.md", r"of q_c for crushable grains, ([\d.]+) % for unbreakable", EVR_TABLE,
       RIGID + ".rel_std.qc_steady_MPa", 100.0),
-    # --- preparation study (bench/prep/results.json)
+    # --- preparation study (bench/prep/results.json): the reference page
+    # docs/preparation.md keeps the study's main rows, docs/studies/preparation.md all
     N("docs/preparation.md", r"\| \*\*core porosity, prepared\*\* [^|]+\| \*\*([\d.]+)\*\*", PREP,
       "cases[case=demo_2024].porosity_core"),
     N("docs/preparation.md", r"\| \*\*core porosity, prepared\*\* [^|]+\| \*\*[\d.]+\*\*; ([\d.]+)",
@@ -126,6 +140,16 @@ ENTRIES = [
       r"\| \*\*core porosity, prepared\*\* [^|]+\| [^|]+\| \*\*([\d.]+)\*\*", PREP,
       "cases[case=demo_2025].porosity_core"),
     N("docs/preparation.md",
+      r"\| \*\*core porosity, prepared\*\* [^|]+\| [^|]+\| [^|]+\| \*\*([\d.]+)\*\*", PREP,
+      "cases[case=paper_R216_q].porosity_core"),
+    N("docs/studies/preparation.md", r"\| \*\*core porosity, prepared\*\* [^|]+\| \*\*([\d.]+)\*\*", PREP,
+      "cases[case=demo_2024].porosity_core"),
+    N("docs/studies/preparation.md", r"\| \*\*core porosity, prepared\*\* [^|]+\| \*\*[\d.]+\*\*; ([\d.]+)",
+      PREP, "cases[case=demo_2024].porosity_core_deck"),
+    N("docs/studies/preparation.md",
+      r"\| \*\*core porosity, prepared\*\* [^|]+\| [^|]+\| \*\*([\d.]+)\*\*", PREP,
+      "cases[case=demo_2025].porosity_core"),
+    N("docs/studies/preparation.md",
       r"\| \*\*core porosity, prepared\*\* [^|]+\| [^|]+\| [^|]+\| \*\*([\d.]+)\*\*", PREP,
       "cases[case=paper_R216_q].porosity_core"),
     # --- performance
@@ -193,6 +217,12 @@ ENTRIES = [
       "bench/stability_cost/results.json", "relative_cost_difference", 100.0),
     N("docs/stability.md", r"That is (\d+) instructions per grain per step",
       "bench/stability_cost/results.json", "Ir_per_step_per_grain_own"),
+    N("docs/studies/stability.md", r"\| difference \| [\d,]+ \(([\d.]+) %\) \|",
+      "bench/stability_cost/results.json", "relative_cost_difference", 100.0),
+    N("docs/studies/stability.md", r"That is (\d+) instructions per grain per step",
+      "bench/stability_cost/results.json", "Ir_per_step_per_grain_own"),
+    N("docs/stability.md", r"with its defaults adds \*\*([\d.]+) %\*\* of the",
+      "bench/stability_cost/results.json", "relative_cost_difference", 100.0),
 ]
 
 FACTS = [
@@ -200,6 +230,14 @@ FACTS = [
       _reads("inputs/pile_jacking.in", "include ${inputs}/check_stability.in"),
       "the chamber's jacking block includes the blow-up check"),
     F("docs/stability.md", r"defaults `move 0.1 overlap 1.5`",
+      lambda repo: all(x in (repo / "inputs/check_stability.in").read_text()
+                       for x in ("variable stab_move    index 0.1",
+                                 "variable stab_overlap index 1.5")),
+      "inputs/check_stability.in's defaults"),
+    F("docs/studies/stability.md", r"`inputs/pile_jacking.in` has included `inputs/check_stability.in`",
+      _reads("inputs/pile_jacking.in", "include ${inputs}/check_stability.in"),
+      "the chamber's jacking block includes the blow-up check"),
+    F("docs/studies/stability.md", r"defaults `move 0.1 overlap 1.5`",
       lambda repo: all(x in (repo / "inputs/check_stability.in").read_text()
                        for x in ("variable stab_move    index 0.1",
                                  "variable stab_overlap index 1.5")),
