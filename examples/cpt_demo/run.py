@@ -19,13 +19,17 @@ estimate of the time left; crushpost.progress), and at the end the folder it
 wrote into (--json: also summary.json on stdout). With --restart-every K it
 writes a restart file every K chunks of jacking; --resume goes on from the
 last one with the first start's options (args.json) and merges the parts'
-series (crushpost.restart; docs/cpt.md "Restarting a run"). The full analyses of the
+series (crushpost.restart; docs/cpt.md "Restarting a run"). With --crush-in-prep
+crushing is on from the preparation's radial servo stage (at --dt), so the
+grains the prepared state overloads break before jacking; those breaks are
+counted apart (summary.json n_break_events_prep, break_zones "prep"; docs/cpt.md
+"Crushing during preparation"). The full analyses of the
 run: crushpost report OUT (docs/report.md; scripts/demo runs it).
 
 Exit status 1 (reasons on stderr and in summary.json "failed_checks") when a
 grain is outside the chamber at the end, the mass balance is off by more
 than 1e-12, the grain count differs from the count at the start of jacking
-plus 13 per break, or a breakage event lies inside the pile; LIGGGHTS' own
+plus 13 per break while jacking, or a breakage event lies inside the pile; LIGGGHTS' own
 exit status when it stops (e.g. lost atoms, or a preparation stage that
 missed its target).
 """
@@ -143,6 +147,9 @@ def run_deck(a, out, tip_z0, progress=None, part=0, restart_file=None):
         v["crush_reading"] = a.crush_reading
     if a.prep_only:
         v["jacking_block"] = "none"
+    if getattr(a, "crush_in_prep", False):
+        # the grain model from the radial servo stage on (inputs/chamber_servo.in)
+        v["crush_in_prep"] = 1
     if a.snapshots == "yes":
         v["snapshot_block"] = "snapshots_hdf5"
         v["prep_snapshot_block"] = "snapshot_prep"
@@ -196,9 +203,10 @@ def failed_checks(summary):
                    "differ from the mass at the start of jacking" % (err, MASS_BALANCE_TOL))
     if summary["n_particles_final"] != summary["n_particles_expected"]:
         bad.append("summary.json n_particles_final = %d, but the start of jacking (%d) plus "
-                   "13 per breakage event (%d) gives %d: atoms were lost or created"
+                   "13 per breakage event while jacking (%d) gives %d: atoms were lost or created"
                    % (summary["n_particles_final"], summary["n_particles_jacking_start"],
-                      summary["n_break_events"], summary["n_particles_expected"]))
+                      summary["n_break_events"] - summary.get("n_break_events_prep", 0),
+                      summary["n_particles_expected"]))
     if summary.get("n_events_inside_pile", 0) > 0:
         bad.append("summary.json n_events_inside_pile = %d: breakage events with the parent's "
                    "centre inside the pile (breakage_events.txt)" % summary["n_events_inside_pile"])
@@ -272,8 +280,13 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         log_text = f.read()
     blocks = [b for b in parse_log(log_text) if "qc" in b]
     last = blocks[-1]
-    M0 = blocks[0]["M_grains"][0]
+    # the fix's counters are cumulative since it was defined: with
+    # --crush-in-prep the preparation's breaks and fines are in them at the
+    # start of jacking (0 otherwise), and the sample's mass is the grains' at
+    # the start of jacking plus those fines
+    M0 = blocks[0]["M_grains"][0] + blocks[0]["fines"][0]
     n_jack0 = int(blocks[0]["Atoms"][0])
+    n_prep = int(blocks[0]["n_break"][0])
     fines = last["fines"][-1]
     mass_err = abs(last["M_grains"][-1] + fines - M0) / M0
     n_events = int(last["n_break"][-1])
@@ -308,10 +321,15 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         hh, r = relative_to_tip(events["x"], events["y"], events["z"], z_tip, a.R_pile)
         inside = inside_pile(hh, r)
         n_inside = int(inside.sum())
-        # where the events are: switch-on (first step of jacking), entry,
-        # the crushing zone at the cone, the shaft, beyond 5R below the tip
+        # where the events are: preparation (--crush-in-prep: up to the step
+        # jacking starts at), switch-on (first step of jacking, when crushing
+        # is switched on there), entry, the crushing zone at the cone, the
+        # shaft, beyond 5R below the tip
         first_step = int(blocks[0]["Step"][0]) + 1 if "Step" in blocks[0] else None
-        zones = break_zones(hh, r, (z_ref - z_tip) / a.R_pile, events["step"] == first_step)
+        in_prep = (events["step"] < first_step if first_step is not None
+                   else np.zeros(len(events["step"]), dtype=bool))
+        switch_on = (events["step"] == first_step) & (not getattr(a, "crush_in_prep", False))
+        zones = break_zones(hh, r, (z_ref - z_tip) / a.R_pile, switch_on, prep=in_prep)
         ev_depth = (z_ref - z_tip) * 1e3
         np.savetxt(os.path.join(out, "breakage_map.txt"),
                    np.column_stack([events["step"], hh, r, ev_depth, inside]),
@@ -341,7 +359,8 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         "qc_fit_b_err": fit.b_err, "qc_levelled_off": levelled_off, "n_break_events": n_events,
         "fines_mass_fraction": float(fines / M0), "mass_balance_rel_error": float(mass_err),
         "n_particles_initial": int(n0), "n_particles_final": int(last["Atoms"][-1]),
-        "n_particles_jacking_start": n_jack0, "n_particles_expected": n_jack0 + 13 * n_events,
+        "n_break_events_prep": n_prep, "crush_in_prep": bool(getattr(a, "crush_in_prep", False)),
+        "n_particles_jacking_start": n_jack0, "n_particles_expected": n_jack0 + 13 * (n_events - n_prep),
         "n_grains_outside": grains_outside(log_text), "n_events_inside_pile": n_inside,
         "qc_fit_points": int(virgin.sum()), "qc_fit_excluded_repush_points": int((push & ~virgin).sum()),
         "sand_surface_z_m": z_ref,
@@ -489,6 +508,10 @@ def main(argv=None):
                    help="keywords of the criterion reading given to fix crush/particle "
                    "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "
                    "scatter truncated f_min 0.5'; default: the printed model")
+    p.add_argument("--crush-in-prep", action="store_true",
+                   help="crushing (--grains) on from the preparation's radial servo stage, at "
+                   "--dt, so that the grains the prepared state overloads break before jacking "
+                   "(docs/cpt.md 'Crushing during preparation'); default: from the jacking on")
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None)
     p.add_argument("--snapshots", default="yes", choices=["yes", "no"],
@@ -532,8 +555,12 @@ def main(argv=None):
     wall = run_deck(a, a.out, tip_z0, progress)
     if a.prep_only:
         summary = {"prep": prep_summary(a, a.out), "wall_time_s": wall, "mpi_ranks": a.np,
+                   "crush_in_prep": bool(a.crush_in_prep),
                    "n_particles_initial": int(n0), "N": a.N, "R_chamber_m": a.R_ch,
                    "H_chamber_m": a.H_ch, "sector_deg": a.sector, "packing_seed": a.packing_seed}
+        ev_path = os.path.join(a.out, "breakage_events.txt")
+        if a.crush_in_prep and os.path.exists(ev_path):
+            summary["n_break_events_prep"] = int(len(read_crush_log(ev_path)["step"]))
         with open(os.path.join(a.out, "summary.json"), "w") as f:
             json.dump(summary, f, indent=2)
         if a.json:

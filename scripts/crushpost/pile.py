@@ -121,16 +121,20 @@ ZONE_DEPTH_MIN = 2.0
 
 
 def break_zones(h_over_R, r_over_R, tip_depth_over_R, switch_on,
-                apex_angle_deg=PILE_APEX_ANGLE_DEG):
+                apex_angle_deg=PILE_APEX_ANGLE_DEG, prep=None):
     """Breakage events counted by where they happen relative to the tip.
 
     Inputs, one per event: ``h_over_R``, ``r_over_R`` (the parent's centre
     relative to the apex at the event, :func:`relative_to_tip`),
     ``tip_depth_over_R`` (the apex's depth below the sand surface at the event,
-    in R) and ``switch_on`` (bool: the event is at the first step of jacking,
+    in R), ``switch_on`` (bool: the event is at the first step of jacking,
     when crushing is switched on: the prepared state broke the grain, not the
-    pile). Zones, in R (shoulder = 1 / tan(apex / 2), 1.73 for 60 degrees):
+    pile) and, optional, ``prep`` (bool: the event happened during the
+    preparation, before jacking started: crushing on in the preparation,
+    examples/cpt_demo --crush-in-prep; default none). Zones, in R (shoulder =
+    1 / tan(apex / 2), 1.73 for 60 degrees):
 
+    - ``prep``: during the preparation (whatever ``switch_on`` says);
     - ``switch_on``: at the first step;
     - ``entry``: later, with the tip at most ZONE_DEPTH_MIN deep;
     - penetration (the rest), split into
@@ -145,20 +149,24 @@ def break_zones(h_over_R, r_over_R, tip_depth_over_R, switch_on,
     h = np.asarray(h_over_R, dtype=float)
     r = np.asarray(r_over_R, dtype=float)
     depth = np.asarray(tip_depth_over_R, dtype=float)
-    first = np.asarray(switch_on, dtype=bool)
-    if not (h.shape == r.shape == depth.shape == first.shape):
-        raise ValueError("break_zones: h, r, tip depth and switch_on need one value per event, "
-                         "got shapes %s %s %s %s" % (h.shape, r.shape, depth.shape, first.shape))
+    in_prep = (np.zeros(h.shape, dtype=bool) if prep is None
+               else np.asarray(prep, dtype=bool))
+    if not (h.shape == r.shape == depth.shape == np.shape(switch_on) == in_prep.shape):
+        raise ValueError("break_zones: h, r, tip depth, switch_on and prep need one value per "
+                         "event, got shapes %s %s %s %s %s"
+                         % (h.shape, r.shape, depth.shape, np.shape(switch_on), in_prep.shape))
+    first = np.asarray(switch_on, dtype=bool) & ~in_prep
     shoulder = 1.0 / math.tan(math.radians(0.5 * apex_angle_deg))
-    entry = ~first & (depth <= ZONE_DEPTH_MIN)
-    pen = ~first & ~entry
+    entry = ~in_prep & ~first & (depth <= ZONE_DEPTH_MIN)
+    pen = ~in_prep & ~first & ~entry
     below = pen & (h <= -ZONE_H_BELOW)
     near = r < ZONE_R_MAX
     in_zone = pen & near & (h > -ZONE_H_BELOW) & (h < shoulder)
     shaft = pen & near & (h >= shoulder)
     elsewhere = pen & ~below & ~in_zone & ~shaft
     n_pen = int(pen.sum())
-    return {"n_events": int(h.size), "switch_on": int(first.sum()), "entry": int(entry.sum()),
+    return {"n_events": int(h.size), "prep": int(in_prep.sum()), "switch_on": int(first.sum()),
+            "entry": int(entry.sum()),
             "penetration": n_pen, "in_zone": int(in_zone.sum()), "along_shaft": int(shaft.sum()),
             "beyond_5R_below": int(below.sum()), "elsewhere": int(elsewhere.sum()),
             "fraction_in_zone": float(in_zone.sum()) / n_pen if n_pen else float("nan")}

@@ -75,6 +75,7 @@ HEADLINE_NAMES = {
     "qc_steady_MPa": "MPa", "qc_steady_err_MPa": "MPa", "qc_fit_b_per_m": "1/m",
     "qc_last3_bands_MPa": "MPa", "qc_run_scatter_MPa": "MPa",
     "final_depth_mm": "mm", "n_break_events": "-", "n_break_events_first_step": "-",
+    "n_break_events_prep": "-",
     "Br_sample": "-",
     "events_switch_on": "-", "events_entry": "-", "events_penetration": "-",
     "events_in_zone": "-", "events_along_shaft": "-", "events_beyond_5R_below": "-",
@@ -562,18 +563,23 @@ def _log_numbers(rep, ctx):
         return
     first, last = blocks[0], blocks[-1]
     if "M_grains" in first and "fines" in last:
-        m0 = first["M_grains"][0]
+        # with crushing on in the preparation (cpt_demo --crush-in-prep) the
+        # fix's fines start the jacking above 0: M_0 is grains + fines then
+        m0 = first["M_grains"][0] + (first["fines"][0] if "fines" in first else 0.0)
         err = abs(last["M_grains"][-1] + last["fines"][-1] - m0) / m0
         rep.head["mass_balance_rel_error"] = float(err)
         rep.head_notes["mass_balance_rel_error"] = (
-            "|M_grains + fines - M_0| / M_0 from the log's thermo output (M_0 at the start of "
-            "jacking)")
+            "|M_grains + fines - M_0| / M_0 from the log's thermo output (M_0 = M_grains + "
+            "fines at the start of jacking)")
         ctx["M0"] = float(m0)
     if "n_break" in last:
         n_break = int(last["n_break"][-1])
         rep.head["n_break_events"] = n_break
+        # breaks before jacking (crushing on in the preparation) are in the
+        # fix's count at the jacking's first row, and their fragments in Atoms
+        n_break0 = int(first["n_break"][0]) if "n_break" in first else 0
         if "lost_atoms" not in rep.head:
-            expected = int(first["Atoms"][0]) + 13 * n_break
+            expected = int(first["Atoms"][0]) + 13 * (n_break - n_break0)
             rep.head["lost_atoms"] = expected - int(last["Atoms"][-1])
             rep.head_notes["lost_atoms"] = (
                 "atoms at the start of jacking + 13 per break - atoms at the end (log)")
@@ -590,6 +596,12 @@ def _log_numbers(rep, ctx):
                 "break events at the first step of jacking (step %d), when crushing is switched "
                 "on: grains the prepared state already loads past their limit, not the pile's; "
                 "counted in n_break_events and in Br" % (start + 1))
+            n_prep = int(np.count_nonzero(events["step"] <= start))
+            if n_prep:
+                rep.head["n_break_events_prep"] = n_prep
+                rep.head_notes["n_break_events_prep"] = (
+                    "break events before jacking (step <= %d): crushing on in the preparation "
+                    "(cpt_demo --crush-in-prep); counted in n_break_events and in Br" % start)
     if "Br" in last:
         rep.head["Br_sample"] = float(last["Br"][-1])
         rep.head_notes["Br_sample"] = "the fix's bounded Br of the whole sample at the end (log)"
@@ -1335,9 +1347,13 @@ def _breakage_map(rep, ctx):
     # events by zone (crushpost.pile.break_zones): switch-on, entry, the
     # crushing zone at the cone, along the shaft, beyond 5R below the tip
     first_step = ctx.get("jack_first_step")
+    prep = (events["step"] < first_step if first_step is not None
+            else np.zeros(hh.size, dtype=bool))
+    # crushing on before jacking (cpt_demo --crush-in-prep): no switch-on
+    on_before = bool(ctx["summary"].get("crush_in_prep")) or bool(prep.any())
     zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / R,
-                        events["step"] == first_step if first_step is not None
-                        else np.zeros(hh.size, dtype=bool))
+                        (events["step"] == first_step) & (not on_before) if first_step is not None
+                        else np.zeros(hh.size, dtype=bool), prep=prep)
     for k in ("switch_on", "entry", "penetration", "in_zone", "along_shaft", "beyond_5R_below",
               "elsewhere"):
         rep.head["events_" + k] = zones[k]
