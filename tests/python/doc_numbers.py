@@ -68,6 +68,7 @@ RIGID = "chamber_spread.models.unbreakable"
 PREP = "bench/prep/results.json"
 WALL16 = "bench/icount/results_scaling_wall_16core.json"
 XL = "bench/extreme_loading/results.json"
+CR = "bench/criterion_readings/results.json"
 
 ENTRIES = [
     # --- energy budget and extreme loading (bench/extreme_loading/results.json):
@@ -223,6 +224,25 @@ ENTRIES = [
       "bench/stability_cost/results.json", "Ir_per_step_per_grain_own"),
     N("docs/stability.md", r"with its defaults adds \*\*([\d.]+) %\*\* of the",
       "bench/stability_cost/results.json", "relative_cost_difference", 100.0),
+    # the fragments' velocity rule under density scaling, both seeds
+    # (docs/studies/error-vs-runtime.md, "Density scaling"): piece names hold
+    # a dot, so the values are read by function
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2024 \| ([\d.]+), [\d.]+ \| \d+ \(\d+\) \| [\d.]+ \| [\d,]+ \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2024"]["metrics"]["qc_steady_MPa"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2024 \| [\d.]+, [\d.]+ \| (\d+) \(\d+\) \| [\d.]+ \| [\d,]+ \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2024"]["metrics"]["n_break_events"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2024 \| [\d.]+, [\d.]+ \| \d+ \(\d+\) \| ([\d.]+) \| [\d,]+ \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2024"]["metrics"]["Br_band_1_2"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2024 \| [\d.]+, [\d.]+ \| \d+ \(\d+\) \| [\d.]+ \| ([\d,]+) \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2024"]["metrics"]["sigma_r_2R_kPa"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2025 \| ([\d.]+), [\d.]+ \| \d+ \(\d+\) \| [\d.]+ \| [\d,]+ \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2025"]["metrics"]["qc_steady_MPa"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2025 \| [\d.]+, [\d.]+ \| (\d+) \(\d+\) \| [\d.]+ \| [\d,]+ \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2025"]["metrics"]["n_break_events"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2025 \| [\d.]+, [\d.]+ \| \d+ \(\d+\) \| ([\d.]+) \| [\d,]+ \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2025"]["metrics"]["Br_band_1_2"]),
+    N("docs/studies/error-vs-runtime.md", r"\| present rule \| 2025 \| [\d.]+, [\d.]+ \| \d+ \(\d+\) \| [\d.]+ \| ([\d,]+) \|", CR,
+      lambda d: d["runs"]["chamber_dscale_0.55_seed2025"]["metrics"]["sigma_r_2R_kPa"]),
 ]
 
 FACTS = [
