@@ -302,6 +302,7 @@ DEMO_ENTRIES = [
     N("docs/cpt.md", r"b = [\d.]+ 1/m, b h = ([\d.]+); \d+ breaks", DEMO,
       lambda d: d["qc_fit_b"] * d["final_depth_m"]),
     N("docs/cpt.md", r"b h = [\d.]+; (\d+) breaks, no failed check", DEMO, "n_break_events"),
+    N("docs/cpt.md", r"\), (\d+) s for the driver on 2 quiet cores with", DEMO, "wall_time_s"),
     N("docs/studies/error-vs-runtime.md", r"\*\*q_c levels off, a = ([\d.]+) MPa, b h = [\d.]+\*\*", DEMO,
       "qc_steady_MPa"),
     N("docs/studies/error-vs-runtime.md", r"\*\*q_c levels off, a = [\d.]+ MPa, b h = ([\d.]+)\*\*", DEMO,
