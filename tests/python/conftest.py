@@ -33,3 +33,14 @@ def dead_pid():
     child = subprocess.Popen([sys.executable, "-c", "pass"])
     child.wait()
     return child.pid
+
+
+def write_events_file(path, events):
+    """A breakage_events.txt of fix crush/particle's layout with one line per
+    (step, x, y, z) of `events` (parent tags 1, 2, ...; other columns fixed):
+    the synthetic runs of the chamber driver's tests."""
+    with open(path, "w") as f:
+        f.write("# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n")
+        for k, (st, x, y, z) in enumerate(events):
+            f.write("%d %g %d 0.008 %.17g %.17g %.17g 1 1 particle 0\n" % (st, st * 1e-7, k + 1,
+                                                                          x, y, z))

@@ -15,6 +15,8 @@ import pytest
 
 from crushpost.trend import qc_trend
 
+from conftest import write_events_file
+
 R = 0.018
 Z_REF = 0.1            # sand surface at the start of jacking
 TIP_Z0 = 0.095         # initial apex (the top wall's first height): NOT the depth reference
@@ -70,11 +72,7 @@ def _write_run(out, M_end_rel=0.0, n_outside=0, events=None, atoms_missing=0):
            "CHAMBER outside %d grains: above the top wall %d, below the bottom 0, beyond the "
            "lateral wall 0, across a symmetry plane 0" % (n_outside, n_outside)]
     (out / "log.liggghts").write_text("\n".join(log) + "\n")
-    with open(out / "breakage_events.txt", "w") as f:
-        f.write("# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n")
-        for k, (st, x, y, z) in enumerate(events):
-            f.write("%d %g %d 0.008 %.17g %.17g %.17g 1 1 particle 0\n" % (st, st * 1e-7, k + 1,
-                                                                          x, y, z))
+    write_events_file(out / "breakage_events.txt", events)
     return n0
 
 

@@ -24,6 +24,8 @@ import pytest
 from crushpost.pile import break_zones
 from crushpost.trend import qc_trend
 
+from conftest import write_events_file
+
 SHOULDER = 1.0 / math.tan(math.radians(30.0))
 
 
@@ -127,11 +129,7 @@ def _write_run(out, n_jack_events, atoms_missing=0, counters_from_zero=False):
     for k in range(1, n_jack_events):
         st = S0 + 8000 + 100 * k                       # tip 2.7 R deep: penetration
         events.append((st, 0.6 * R, 0.0, _tip(st) + R))
-    with open(out / "breakage_events.txt", "w") as f:
-        f.write("# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n")
-        for k, (st, x, y, z) in enumerate(events):
-            f.write("%d %g %d 0.008 %.17g %.17g %.17g 1 1 particle 0\n" % (st, st * 1e-7, k + 1,
-                                                                          x, y, z))
+    write_events_file(out / "breakage_events.txt", events)
     return fines_end
 
 
