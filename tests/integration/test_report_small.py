@@ -20,6 +20,10 @@ e. the VTK files hold the arrays the ParaView script
    (crushpost/paraview_state.py) names, one value per grain (the atom count
    of the log at that step) and the meshes' cells (the STL triangles);
    the script itself runs under ParaView in test_paraview_state.py.
+f. the strengths and generations of the VTK files and of the snapshots are
+   the fix's own per-atom values (a dump of f_crush[1], f_crush[2]):
+   fragments have generation 1 or more, original grains 0, and the
+   strengths follow the drawn scatter (mean 1, sd 0.36).
 """
 
 import math
@@ -126,6 +130,10 @@ variable        phase equal f_jack[6]
 variable        vtk_every equal {VTK_EVERY}
 include         ${{inputs}}/snapshots_hdf5.in
 include         ${{inputs}}/vtk_dumps.in
+# the fix's own per-atom array at the VTK steps, the reference for the
+# strengths and generations that the snapshots and VTK files carry
+dump            fix_ref all custom ${{vtk_every}} post/fix_*.txt id radius f_crush[1] f_crush[2]
+dump_modify     fix_ref sort id format "%d %.17g %.17g %.17g"
 include         spheres.in
 thermo_style    custom step time atoms f_jack[2] v_qc f_jack[4] f_jack[6] v_n_break v_fines v_Br c_M_grains
 thermo_modify   lost error format float %.15g
@@ -245,6 +253,50 @@ def _read_vtk(path):
     rd.ReadAllFieldsOn()
     rd.Update()
     return rd.GetOutput()
+
+
+def test_strengths_and_generations_are_the_fixs_per_atom_values(run):
+    """The strength and generation that the VTK files and the HDF5 snapshots
+    carry for each grain (atom variables over compute crush/atom) are the
+    fix's own per-atom values (its array f_crush[1], f_crush[2], dumped at
+    the VTK steps); fragments (new tags) have generation 1 or more and the
+    original grains 0; and the strengths follow the drawn scatter,
+    f = sigma_lim / (sigma_lim0 (d / (N d0))^(-3/m)) ~ Normal(1, 0.36)."""
+    wd = run["wd"]
+    ref = {f.timestep: f for f in harness.read_dumps(wd / "post", "fix_*.txt")}
+    n0 = int(max(pile_cell.data_atoms(wd / "settled.data")[:, 0]))
+    grains = paraview_state.grain_files(str(wd))
+    assert grains and set(int(Path(g).stem.split("_")[-1]) for g in grains) <= set(ref)
+    for gpath in grains:
+        f = ref[int(Path(gpath).stem.split("_")[-1])]
+        pd = _read_vtk(gpath).GetPointData()
+        col = {name: np.array([pd.GetArray(name).GetValue(i)
+                               for i in range(pd.GetArray(name).GetNumberOfTuples())])
+               for name in ("id", "sigma_lim", "generation")}
+        order = np.argsort(col["id"], kind="stable")
+        assert np.array_equal(col["id"][order], f["id"])
+        np.testing.assert_allclose(col["sigma_lim"][order], f["f_crush[1]"], rtol=1e-6)
+        assert np.array_equal(col["generation"][order], f["f_crush[2]"])
+    steps = sorted(ref)
+    for _, path in list_snapshots(wd / "snapshots" / "jack"):
+        snap = read_snapshot(path)
+        p = snap["particles"]
+        f = ref[steps[min(np.searchsorted(steps, snap["step"]), len(steps) - 1)]]
+        # grains still there, unbroken, at the next reference step
+        common, i_s, i_r = np.intersect1d(p["id"], f["id"].astype(np.int64), return_indices=True)
+        same = p["radius"][i_s] == f["radius"][i_r]
+        assert np.count_nonzero(same) > 0.9 * len(p["id"])
+        np.testing.assert_array_equal(p["values"]["v_sigma_lim"][i_s][same], f["f_crush[1]"][i_r][same])
+        np.testing.assert_array_equal(p["values"]["v_generation"][i_s][same], f["f_crush[2]"][i_r][same])
+    last = ref[steps[-1]]
+    fragment = last["id"] > n0
+    assert np.count_nonzero(fragment) >= 13, "the test needs breaks"
+    assert np.array_equal(last["f_crush[2]"] >= 1, fragment)
+    assert np.count_nonzero(last["f_crush[2]"] == 1) > 0
+    fac = last["f_crush[1]"] / (SIGMA_LIM0 * (2 * last["radius"] / (N_SCALE * 2e-3)) ** (-0.3))
+    assert abs(fac.mean() - 1) < 4 * 0.36 / math.sqrt(fac.size) + 0.01
+    assert fac.std(ddof=1) == pytest.approx(0.36, rel=0.15)
+    assert fac.min() > 0
 
 
 def test_vtk_files_hold_what_the_paraview_script_uses(run):
