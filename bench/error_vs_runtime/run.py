@@ -210,7 +210,9 @@ def chamber_args(p, out, np_, tree=REPO):
     return driver_args(p, out, np_, "cpt_demo", tree) + [
         "--mode", "monotonic", "--R-ch", repr(s["R_ch_over_R"] * R_PILE), "--H-ch", repr(s["H_ch"]),
         "--R-pile", repr(R_PILE), "--sector", str(s["sector"]), "--v-push", repr(s["v_push"]),
-        "--depth", repr(s["depth"]), "--snapshots", "yes", "--spheres", "no"]
+        "--depth", repr(s["depth"]), "--snapshots", "yes", "--spheres", "no"] + (
+            # crushing during the preparation (bench/criterion_readings)
+            ["--crush-in-prep"] if s.get("crush_in_prep") else [])
 
 
 def oedometer_args(p, out, np_, tree=REPO):

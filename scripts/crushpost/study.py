@@ -163,6 +163,8 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
             out["qc_last3_bands_MPa"] = float(head["qc_last3_bands_MPa"])
         if "n_break_events_first_step" in head:
             out["n_break_events_first_step"] = int(head["n_break_events_first_step"])
+        if "n_break_events_prep" in head:
+            out["n_break_events_prep"] = int(head["n_break_events_prep"])
         # events by zone and Br over the penetrated layers (crushpost.pile.break_zones)
         for k in ("events_switch_on", "events_entry", "events_penetration", "events_in_zone",
                   "events_along_shaft", "events_beyond_5R_below", "events_elsewhere",
