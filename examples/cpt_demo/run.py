@@ -53,7 +53,7 @@ from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
-from crushpost.pile import PHASE_PUSH, break_zones, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
+from crushpost.pile import PHASE_PUSH, break_zones, event_phases, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
 from crushpost.prep import (PAPER_PREPARED, prep_chunk_for, prep_cost, prep_time_step,  # noqa: E402
                             read_prep_report, snapshot_prep_summary)
 from crushpost.progress import ChamberProgress, run_watched  # noqa: E402
@@ -326,9 +326,8 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         # is switched on there), entry, the crushing zone at the cone, the
         # shaft, beyond 5R below the tip
         first_step = int(blocks[0]["Step"][0]) + 1 if "Step" in blocks[0] else None
-        in_prep = (events["step"] < first_step if first_step is not None
-                   else np.zeros(len(events["step"]), dtype=bool))
-        switch_on = (events["step"] == first_step) & (not getattr(a, "crush_in_prep", False))
+        in_prep, switch_on = event_phases(events["step"], first_step,
+                                          getattr(a, "crush_in_prep", False))
         zones = break_zones(hh, r, (z_ref - z_tip) / a.R_pile, switch_on, prep=in_prep)
         ev_depth = (z_ref - z_tip) * 1e3
         np.savetxt(os.path.join(out, "breakage_map.txt"),

@@ -23,7 +23,7 @@ from .meshes import PILE_APEX_ANGLE_DEG
 
 __all__ = ["JACK_COLUMNS", "PHASE_PUSH", "PHASE_UNLOAD", "PHASE_PAUSE", "PHASE_DONE",
            "read_jack", "tip_z", "tip_z_at", "relative_to_tip", "pile_penetration",
-           "inside_pile", "break_zones", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
+           "inside_pile", "event_phases", "break_zones", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
            "UTILISATION_ZONES", "utilisation_by_zone"]
 
 #: Columns of the fix jack/pile time series, in file order.
@@ -118,6 +118,19 @@ def inside_pile(h_over_R, r_over_R, tol=0.0, apex_angle_deg=PILE_APEX_ANGLE_DEG)
 ZONE_R_MAX = 3.0
 ZONE_H_BELOW = 5.0
 ZONE_DEPTH_MIN = 2.0
+
+
+def event_phases(steps, first_step, crushing_before):
+    """Masks (prep, switch_on) of break events by the jacking's first step
+    ``first_step`` (None: no jacking, both all False): ``prep`` the events
+    before it (crushing on in the preparation, cpt_demo --crush-in-prep),
+    ``switch_on`` those at it when crushing was switched on there, i.e. not
+    on before (``crushing_before`` False). The inputs of :func:`break_zones`."""
+    steps = np.asarray(steps)
+    if first_step is None:
+        none = np.zeros(steps.shape, dtype=bool)
+        return none, none.copy()
+    return steps < first_step, (steps == first_step) & (not crushing_before)
 
 
 def break_zones(h_over_R, r_over_R, tip_depth_over_R, switch_on,

@@ -45,7 +45,7 @@ from .inputfile import InputFileError, read_checked, reason
 from .fields import (binned_mean, cell_breakage, event_density, interp_columns, interp_radius,
                      qc_reference, qc_trend_band, radial_increments, stress_quantities)
 from .pile import (PHASE_PAUSE, PHASE_PUSH, UTILISATION_ZONES, ZONE_DEPTH_MIN, ZONE_H_BELOW,
-                   ZONE_R_MAX, break_zones, inside_pile, read_jack, relative_to_tip, tip_z_at,
+                   ZONE_R_MAX, break_zones, event_phases, inside_pile, read_jack, relative_to_tip, tip_z_at,
                    utilisation_by_zone)
 from .prep import ring_edges
 from .rings import ring_fields, sphere_cell_volumes
@@ -1347,13 +1347,12 @@ def _breakage_map(rep, ctx):
     # events by zone (crushpost.pile.break_zones): switch-on, entry, the
     # crushing zone at the cone, along the shaft, beyond 5R below the tip
     first_step = ctx.get("jack_first_step")
-    prep = (events["step"] < first_step if first_step is not None
-            else np.zeros(hh.size, dtype=bool))
-    # crushing on before jacking (cpt_demo --crush-in-prep): no switch-on
-    on_before = bool(ctx["summary"].get("crush_in_prep")) or bool(prep.any())
-    zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / R,
-                        (events["step"] == first_step) & (not on_before) if first_step is not None
-                        else np.zeros(hh.size, dtype=bool), prep=prep)
+    # crushing on before jacking (cpt_demo --crush-in-prep, or events before
+    # the first step): no switch-on
+    on_before = bool(ctx["summary"].get("crush_in_prep")) or (
+        first_step is not None and bool(np.any(events["step"] < first_step)))
+    prep, switch_on = event_phases(events["step"], first_step, on_before)
+    zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / R, switch_on, prep=prep)
     for k in ("switch_on", "entry", "penetration", "in_zone", "along_shaft", "beyond_5R_below",
               "elsewhere"):
         rep.head["events_" + k] = zones[k]

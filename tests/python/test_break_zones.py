@@ -64,3 +64,15 @@ def test_utilisation_by_zone_known_answer():
     assert sum(out[z]["n"] for z in ("below_tip", "beside_cone", "band_2_3R", "far_field")) == 5
     empty = utilisation_by_zone([], [], [])
     assert empty["below_tip"]["n"] == 0 and math.isnan(empty["below_tip"]["median"])
+
+
+def test_event_phases_split_preparation_and_switch_on():
+    from crushpost.pile import event_phases
+    steps = [5, 9, 10, 10, 11, 30]
+    prep, on = event_phases(steps, 10, crushing_before=False)
+    assert prep.tolist() == [True, True, False, False, False, False]
+    assert on.tolist() == [False, False, True, True, False, False]
+    prep, on = event_phases(steps, 10, crushing_before=True)
+    assert not on.any() and prep.sum() == 2
+    prep, on = event_phases(steps, None, crushing_before=False)
+    assert not prep.any() and not on.any()
