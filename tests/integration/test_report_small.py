@@ -255,6 +255,12 @@ def _read_vtk(path):
     return rd.GetOutput()
 
 
+def _point_array(pd, name):
+    """A VTK point-data array as a numpy array (one value per grain)."""
+    arr = pd.GetArray(name)
+    return np.array([arr.GetValue(i) for i in range(arr.GetNumberOfTuples())])
+
+
 def test_strengths_and_generations_are_the_fixs_per_atom_values(run):
     """The strength and generation that the VTK files and the HDF5 snapshots
     carry for each grain (atom variables over compute crush/atom) are the
@@ -270,9 +276,7 @@ def test_strengths_and_generations_are_the_fixs_per_atom_values(run):
     for gpath in grains:
         f = ref[int(Path(gpath).stem.split("_")[-1])]
         pd = _read_vtk(gpath).GetPointData()
-        col = {name: np.array([pd.GetArray(name).GetValue(i)
-                               for i in range(pd.GetArray(name).GetNumberOfTuples())])
-               for name in ("id", "sigma_lim", "generation")}
+        col = {name: _point_array(pd, name) for name in ("id", "sigma_lim", "generation")}
         order = np.argsort(col["id"], kind="stable")
         assert np.array_equal(col["id"][order], f["id"])
         np.testing.assert_allclose(col["sigma_lim"][order], f["f_crush[1]"], rtol=1e-6)
@@ -320,11 +324,11 @@ def test_vtk_files_hold_what_the_paraview_script_uses(run):
             assert pd.GetArray(name).GetNumberOfTuples() == g.GetNumberOfPoints()
         if step in atoms_at:
             assert g.GetNumberOfPoints() == atoms_at[step]
-        gen = np.array([pd.GetArray("generation").GetValue(i) for i in range(g.GetNumberOfPoints())])
+        gen = _point_array(pd, "generation")
         assert np.all(gen >= 0) and np.all(gen == np.round(gen))
         # per grain, not one global number for all (an atom variable f_crush[1]
         # read the fix's global vector: every grain had the run's event count)
-        sig = np.array([pd.GetArray("sigma_lim").GetValue(i) for i in range(g.GetNumberOfPoints())])
+        sig = _point_array(pd, "sigma_lim")
         assert np.unique(sig).size > 0.9 * sig.size, np.unique(sig)[:5]
         assert np.count_nonzero(gen == 0) > 0.5 * gen.size
         m = _read_vtk(mpath)
