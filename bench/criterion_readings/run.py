@@ -102,17 +102,14 @@ def pieces():
         out.append({"name": "triaxial_%s_seed2025" % name, "scene": "triaxial",
                     "grains": "crushable_ne34", "reading": name, "role": "reading",
                     "setting": {"crush_reading": kw, "packing_seed": 2025}})
-    for name, kw in READINGS.items():
-        for seed in (2024, 2025):
-            out.append({"name": "chamber_%s_seed%d" % (name, seed), "scene": "chamber",
-                            "grains": "crushable_ne34", "reading": name, "role": "reading",
-                            "setting": dict(evr.CHAMBER_REF, crush_reading=kw, packing_seed=seed)})
-    for name in CHAMBER_READINGS:
+    # the chamber: every fix-keyword reading, then the driver-option ones
+    chamber = ([(name, {"crush_reading": kw}) for name, kw in READINGS.items()] +
+               [(name, {"crush_reading": "", "crush_in_prep": True}) for name in CHAMBER_READINGS])
+    for name, extra in chamber:
         for seed in (2024, 2025):
             out.append({"name": "chamber_%s_seed%d" % (name, seed), "scene": "chamber",
                         "grains": "crushable_ne34", "reading": name, "role": "reading",
-                        "setting": dict(evr.CHAMBER_REF, crush_reading="", crush_in_prep=True,
-                                        packing_seed=seed)})
+                        "setting": dict(evr.CHAMBER_REF, **extra, packing_seed=seed)})
     # the fragments' velocity rule under density scaling (issue "Nothing
     # changes behind a user's back", item 2): the study's reference chamber
     # with d_scale_ref = 0.55 d50 and the present rule (true momentum), against
