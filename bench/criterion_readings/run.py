@@ -286,6 +286,104 @@ def write_table(table, path, qc_rigid):
         f.write("\n".join(lines) + "\n")
 
 
+#: the chamber pieces' break events, relative to the apex (committed: the
+#: maps figure is drawn from it, not from the uncommitted run folders)
+EVENTS = os.path.join(HERE, "break_events.json")
+MAPS_PNG = os.path.join(REPO, "docs", "img", "criterion_breakage_maps.png")
+
+
+def collect_events(names, root=ROOT, path=EVENTS):
+    """Add to ``path`` the break events of every chamber piece in ``names``
+    whose report (root/NAME/report/fields.h5, breakage/events) exists: h/R and
+    r/R of the parent relative to the apex at the event and the tip's depth
+    (in R), rounded to 1e-3 R. Returns the dict written (piece -> columns)."""
+    import h5py
+    data = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            data = json.load(f)
+    for name in names:
+        fields = os.path.join(root, name, "report", "fields.h5")
+        if not os.path.exists(fields):
+            continue
+        with h5py.File(fields, "r") as f:
+            if "breakage/events" not in f:
+                continue
+            g = f["breakage/events"]
+            tip = g["tip_depth"][()] / _pile_radius(os.path.join(root, name))   # m -> R
+            data[name] = {k: [round(float(v), 3) for v in vals] for k, vals in
+                          (("h_over_R", g["h_over_R"][()]), ("r_over_R", g["r_over_R"][()]),
+                           ("tip_depth_over_R", tip))}
+    with open(path, "w") as f:        # one line per piece: small diffs
+        f.write("{\n" + ",\n".join("%s: %s" % (json.dumps(k), json.dumps(data[k], sort_keys=True))
+                                   for k in sorted(data)) + "\n}\n")
+    return data
+
+
+def _pile_radius(run_dir):
+    path = os.path.join(run_dir, "summary.json")
+    with open(path) as f:
+        R = json.load(f).get("R_pile_m")
+    if not R:
+        raise KeyError("%s: no R_pile_m" % path)
+    return float(R)
+
+
+def penetration_events(ev):
+    """(h/R, r/R) of the events during penetration (tip deeper than
+    ZONE_DEPTH_MIN radii: switch-on, preparation and entry events excluded,
+    as crushpost.pile.break_zones counts them)."""
+    from crushpost.pile import ZONE_DEPTH_MIN
+    h, r, d = (np.asarray(ev[k], dtype=float) for k in ("h_over_R", "r_over_R", "tip_depth_over_R"))
+    pen = d > ZONE_DEPTH_MIN
+    return h[pen], r[pen], int((~pen).sum())
+
+
+def draw_maps(events, path=MAPS_PNG, readings=None):
+    """One panel per reading (seeds pooled): the penetration events in the
+    (r/R, h/R) plane about the apex, the zone of the acceptance (r < 3R,
+    -5R < h < 1.73R) and the pile. Returns the readings drawn."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from crushpost.pile import ZONE_H_BELOW, ZONE_R_MAX
+    names = readings or [n for n in list(READINGS) + list(CHAMBER_READINGS)
+                         if any(k.startswith("chamber_%s_seed" % n) for k in events)]
+    if not names:
+        return []
+    fig, axes = plt.subplots(1, len(names), figsize=(2.6 * len(names) + 0.6, 5.2), sharey=True,
+                             squeeze=False)
+    shoulder = 1.0 / math.tan(math.radians(30.0))
+    for ax, name in zip(axes[0], names):
+        hs, rs, n_other, seeds = [], [], 0, 0
+        for seed in (2024, 2025):
+            ev = events.get("chamber_%s_seed%d" % (name, seed))
+            if ev is None:
+                continue
+            h, r, n = penetration_events(ev)
+            hs.append(h), rs.append(r)
+            n_other += n
+            seeds += 1
+        h, r = np.concatenate(hs), np.concatenate(rs)
+        zone = (r < ZONE_R_MAX) & (h > -ZONE_H_BELOW) & (h < shoulder)
+        ax.plot(r[zone], h[zone], ".", ms=3, color="C3")
+        ax.plot(r[~zone], h[~zone], ".", ms=3, color="C0")
+        ax.add_patch(plt.Rectangle((0.0, -ZONE_H_BELOW), ZONE_R_MAX, ZONE_H_BELOW + shoulder,
+                                   fill=False, ls="--", lw=0.8, color="k"))
+        ax.fill([0.0, 1.0, 1.0, 0.0], [0.0, shoulder, 8.0, 8.0], color="0.8", lw=0)
+        ax.set_xlim(0.0, 8.0)
+        ax.set_ylim(-12.0, 8.0)
+        ax.set_xlabel("r / R")
+        ax.set_title("%s\n%d events, %s in zone\n(%d seed%s; %d before 2R depth)"
+                     % (name, h.size, "%.0f %%" % (100.0 * zone.mean()) if h.size else "-",
+                        seeds, "" if seeds == 1 else "s", n_other), fontsize=8)
+    axes[0][0].set_ylabel("h / R above the apex at the event")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return names
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--list", action="store_true")
@@ -318,6 +416,11 @@ def main(argv=None):
         with open(os.path.join(HERE, "results_table.json"), "w") as f:
             json.dump(table, f, indent=1)
         print("wrote %s" % os.path.join(HERE, "results_table.md"))
+        events = collect_events([p["name"] for p in pieces()
+                                 if p["scene"] == "chamber" and p["role"] == "reading"])
+        drawn = draw_maps(events)
+        if drawn:
+            print("wrote %s (%s)" % (MAPS_PNG, ", ".join(drawn)))
         return 0
     for p in todo:
         if p["name"] in data["runs"]:

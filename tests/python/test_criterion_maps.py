@@ -1,0 +1,61 @@
+# SPDX-License-Identifier: GPL-2.0-or-later
+"""The criterion-readings study's breakage maps (bench/criterion_readings/run.py
+--table): the events kept from each chamber piece's report and the split
+into penetration events, on synthetic reports with known answers."""
+
+import json
+
+import numpy as np
+import pytest
+
+R = 0.018      # m, a pile radius that is not 1: the tip depth is converted
+
+
+@pytest.fixture(scope="module")
+def cr(load_script):
+    return load_script("bench/criterion_readings/run.py")
+
+
+def _report(root, name, h, r, tip_depth_m):
+    import h5py
+    run = root / name
+    (run / "report").mkdir(parents=True)
+    (run / "summary.json").write_text(json.dumps({"R_pile_m": R}))
+    with h5py.File(run / "report" / "fields.h5", "w") as f:
+        g = f.create_group("breakage/events")
+        g["h_over_R"] = np.asarray(h, dtype=float)
+        g["r_over_R"] = np.asarray(r, dtype=float)
+        g["tip_depth"] = np.asarray(tip_depth_m, dtype=float)
+
+
+def test_events_are_kept_in_radii_and_penetration_needs_the_tip_below_2R(cr, tmp_path):
+    # five events: at switch-on (tip at the surface), at entry (tip 1.5 R
+    # deep), three during penetration, of which two in the zone
+    h = [-3.0, 0.5, -1.0, 1.0, -7.0]
+    r = [6.0, 1.2, 1.1, 2.5, 0.5]
+    tip = np.array([0.0, 1.5, 2.5, 4.0, 10.0]) * R
+    _report(tmp_path, "chamber_printed_seed2024", h, r, tip)
+    path = tmp_path / "events.json"
+    data = cr.collect_events(["chamber_printed_seed2024", "chamber_peak_seed2024"],
+                             root=str(tmp_path), path=str(path))
+    assert list(data) == ["chamber_printed_seed2024"]        # the missing piece is skipped
+    ev = json.loads(path.read_text())["chamber_printed_seed2024"]
+    assert ev["tip_depth_over_R"] == [0.0, 1.5, 2.5, 4.0, 10.0]
+    hp, rp, n_other = cr.penetration_events(ev)
+    assert n_other == 2
+    assert hp.tolist() == [-1.0, 1.0, -7.0] and rp.tolist() == [1.1, 2.5, 0.5]
+    # break_zones counts the same events as penetration and in the zone
+    from crushpost.pile import break_zones
+    z = break_zones(np.array(h), np.array(r), tip / R, np.array([True, False, False, False, False]))
+    assert z["penetration"] == hp.size and z["in_zone"] == 2
+
+
+def test_maps_pool_the_seeds_of_a_reading(cr, tmp_path):
+    events = {"chamber_printed_seed2024": {"h_over_R": [-1.0], "r_over_R": [1.0],
+                                           "tip_depth_over_R": [3.0]},
+              "chamber_printed_seed2025": {"h_over_R": [-8.0], "r_over_R": [1.0],
+                                           "tip_depth_over_R": [4.0]},
+              "chamber_peak_seed2025": {"h_over_R": [], "r_over_R": [], "tip_depth_over_R": []}}
+    png = tmp_path / "maps.png"
+    assert cr.draw_maps(events, path=str(png)) == ["printed", "peak"]
+    assert png.stat().st_size > 1000
