@@ -13,6 +13,7 @@ import json
 import math
 import os
 
+from .formats import FIELDS_H5_HEADLINE, SUMMARY as S
 from .inputfile import InputFileError
 
 #: What is compared: (name, where it comes from: summary key or headline name)
@@ -52,12 +53,12 @@ def read_run(run_dir):
         import h5py
         try:
             with h5py.File(h5, "r") as f:
-                if "headline" in f:
-                    headline = {k: _plain(v) for k, v in f["headline"].attrs.items()}
+                if FIELDS_H5_HEADLINE in f:
+                    headline = {k: _plain(v) for k, v in f[FIELDS_H5_HEADLINE].attrs.items()}
         except OSError as exc:
             raise InputFileError("%s: not a readable HDF5 file (%s)" % (h5, exc)) from None
-    if "break_zones" in summary and isinstance(summary["break_zones"], dict):
-        for k, v in summary["break_zones"].items():
+    if S.break_zones in summary and isinstance(summary[S.break_zones], dict):
+        for k, v in summary[S.break_zones].items():
             key = k if k == "fraction_in_zone" else "events_" + k
             headline.setdefault(key, v)
     return {"summary": summary, "headline": headline}

@@ -20,6 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
+from .formats import (EVENT_LOG_COLUMNS, EVENT_LOG_ENERGY_COLUMNS, EVENT_LOG_INT_COLUMNS,
+                      EVENT_LOG_PARTNERS, event_log_columns)
+
 __all__ = ["iter_dump", "read_dump", "CRUSH_LOG_COLUMNS", "read_crush_log"]
 
 _INT_COLUMNS = {"id", "type", "mol", "proc"}
@@ -108,15 +111,11 @@ def true_mass(atoms, density, path="dump"):
     return density * np.pi / 6.0 * d ** 3
 
 
-#: Columns of the crush event log written by the breakage fix, in file order.
-CRUSH_LOG_COLUMNS = ("step", "time", "parent_tag", "parent_diameter", "x", "y", "z",
-                     "F_n", "F_lim", "partner", "generation")
-#: Columns that follow with ``energy yes`` (docs/fix_crush_particle.md,
-#: "Energy accounting"), in file order.
-CRUSH_LOG_ENERGY_COLUMNS = ("E_el_before", "E_el_after", "KE_before", "KE_frag0", "KE_gain",
-                            "v_max", "n_steps")
-_CRUSH_INT = {"step", "parent_tag", "generation", "n_steps"}
-
+#: Columns of the crush event log written by the breakage fix, in file order,
+#: and those that follow with ``energy yes``: defined in crushpost.formats.
+CRUSH_LOG_COLUMNS = EVENT_LOG_COLUMNS
+CRUSH_LOG_ENERGY_COLUMNS = EVENT_LOG_ENERGY_COLUMNS
+_PARTNER = EVENT_LOG_COLUMNS.index("partner")
 
 def read_crush_log(path):
     """Read a crush event log: one breakage event per line.
@@ -146,26 +145,26 @@ def read_crush_log(path):
                 continue
             words = s.split()
             if columns is None:
-                n_plain = len(CRUSH_LOG_COLUMNS)
-                columns = (CRUSH_LOG_COLUMNS + CRUSH_LOG_ENERGY_COLUMNS
-                           if len(words) == n_plain + len(CRUSH_LOG_ENERGY_COLUMNS) else CRUSH_LOG_COLUMNS)
+                columns = event_log_columns(len(words))
             if len(words) != len(columns):
                 raise ValueError("%s:%d: expected %d columns, got %d"
                                  % (path, lineno, len(columns), len(words)))
-            if words[9] not in ("particle", "wall"):
-                raise ValueError("%s:%d: partner must be 'particle' or 'wall', got %r"
-                                 % (path, lineno, words[9]))
+            partner = words[_PARTNER]
+            if partner not in EVENT_LOG_PARTNERS:
+                raise ValueError("%s:%d: partner must be %s, got %r"
+                                 % (path, lineno, " or ".join("'%s'" % w for w in EVENT_LOG_PARTNERS),
+                                    partner))
             rows.append(words)
     out = {}
     for k, name in enumerate(columns or CRUSH_LOG_COLUMNS):
         vals = [r[k] for r in rows]
         if name == "partner":
             out[name] = np.array(vals, dtype=str)
-        elif name in _CRUSH_INT:
+        elif name in EVENT_LOG_INT_COLUMNS:
             out[name] = np.array(vals, dtype=np.int64)
         else:
             out[name] = np.array(vals, dtype=float)
     order = np.argsort(out["step"], kind="stable")
     out = {k: v[order] for k, v in out.items()}
-    out["partner_is_wall"] = out["partner"] == "wall"
+    out["partner_is_wall"] = out["partner"] == EVENT_LOG_PARTNERS[1]
     return out

@@ -18,6 +18,8 @@ import warnings
 
 import numpy as np
 
+from .formats import FIELDS_H5_HEADLINE, SUMMARY as S, fields_h5_group, fields_h5_path
+
 
 def particle_steps(step, atoms):
     """Particle-steps of a run from its thermo lines: the number of grains
@@ -146,19 +148,19 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
     first step of jacking (crushing's switch-on). summary: the dict of
     summary.json; fields_path: fields.h5 of `crushpost report`."""
     import h5py
-    out = {"qc_steady_MPa": summary.get("qc_steady_MPa"),
-           "qc_fit_b_per_m": summary.get("qc_fit_b"),
-           "b_h": (summary.get("qc_fit_b") or float("nan")) * summary.get("final_depth_m", float("nan")),
-           "qc_levelled_off": summary.get("qc_levelled_off"),
-           "n_break_events": summary.get("n_break_events")}
+    out = {"qc_steady_MPa": summary.get(S.qc_steady_MPa),
+           "qc_fit_b_per_m": summary.get(S.qc_fit_b),
+           "b_h": (summary.get(S.qc_fit_b) or float("nan")) * summary.get(S.final_depth_m, float("nan")),
+           "qc_levelled_off": summary.get(S.qc_levelled_off),
+           "n_break_events": summary.get(S.n_break_events)}
     with h5py.File(fields_path, "r") as f:
-        kinds = np.array([k.decode() if isinstance(k, bytes) else str(k) for k in f["states/kind"][()]])
+        kinds = np.array([k.decode() if isinstance(k, bytes) else str(k) for k in f[fields_h5_path("states", "kind")][()]])
         push = np.flatnonzero(kinds == "push_end")
-        if "qc/band_mean" in f:
+        if fields_h5_path("qc", "band_mean") in f:
             out["qc_band_means_MPa"] = [None if not np.isfinite(v) else float(v) / 1e6
-                                        for v in f["qc/band_mean"][()]]
+                                        for v in f[fields_h5_path("qc", "band_mean")][()]]
             out["qc_band_height_m"] = float(f["qc"].attrs["band_height"])
-        head = f["headline"].attrs if "headline" in f else {}
+        head = f[FIELDS_H5_HEADLINE].attrs if FIELDS_H5_HEADLINE in f else {}
         if "qc_last3_bands_MPa" in head:
             out["qc_last3_bands_MPa"] = float(head["qc_last3_bands_MPa"])
         if "n_break_events_first_step" in head:
@@ -172,18 +174,19 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
             if k in head:
                 v = head[k]
                 out[k] = float(v) if k.startswith(("fraction", "Br")) else int(v)
-        if "breakage/bands" in f:
+        if fields_h5_group("breakage/bands") in f:
             g = f["breakage/bands"]
             out["Br_band_1_2"] = band_value(g["band_edges_over_R"][()], g["Br_band"][()][-1], *band)
-        if push.size and "rings/sigma_r" in f and "rings/h_over_R" in f:
+        sigma_r, h_R = fields_h5_path("rings", "sigma_r"), fields_h5_path("rings", "h_over_R")
+        if push.size and sigma_r in f and h_R in f:
             k = int(push[-1])
-            sr = f["rings/sigma_r"][()][k]                 # (ring, layer)
-            hR = f["rings/h_over_R"][()][k]                # (layer,)
-            rR = f["rings/r_over_R"][()]
+            sr = f[sigma_r][()][k]                         # (ring, layer)
+            hR = f[h_R][()][k]                             # (layer,)
+            rR = f[fields_h5_path("rings", "r_over_R")][()]
             order = np.argsort(hR)
             val = bilinear(sr[:, order], rR, hR[order], r_over_R, h_over_R)
             out["sigma_r_2R_kPa"] = val / 1e3
-            qn = f["states/qc_norm"][()][k]
+            qn = f[fields_h5_path("states", "qc_norm")][()][k]
             out["sigma_r_2R_over_qc"] = val / qn if np.isfinite(qn) and qn else float("nan")
     return out
 

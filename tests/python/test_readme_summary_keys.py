@@ -1,14 +1,17 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
 """README.md's table of summary.json keys (issue 43 item 3) is in step with
-the demo: every top-level key of the committed bench/demo/summary.json has a
-row (with its meaning and unit), and every key the table names is one the
-committed summary has or examples/cpt_demo/run.py can write (a renamed or
-dropped key fails here)."""
+the demo and with the keys' one definition, crushpost.formats.SUMMARY_KEYS
+(issue "One topic per file", item 4): the table has a row (with its meaning
+and unit) for every defined key and names no other; every top-level key of
+the committed bench/demo/summary.json is defined; every defined key is one
+examples/cpt_demo/run.py writes (a renamed or dropped key fails here)."""
 
 import json
 import re
 
 from conftest import REPO
+
+from crushpost.formats import SUMMARY_KEYS, SUMMARY_PREP_ONLY_KEYS
 
 TABLE_INTRO = "`results/demo/summary.json` holds"
 
@@ -37,17 +40,25 @@ def readme_table_keys():
     return keys
 
 
-def test_every_summary_key_is_in_the_readme_table():
-    summary = json.loads((REPO / "bench/demo/summary.json").read_text())
-    missing = sorted(set(summary) - readme_table_keys())
+def test_the_readme_table_is_the_definition():
+    table = readme_table_keys()
+    missing = sorted(set(SUMMARY_KEYS) - table)
+    extra = sorted(table - set(SUMMARY_KEYS))
     assert not missing, ("README.md's summary.json table lacks the keys %s of "
-                         "bench/demo/summary.json: add a row (meaning, unit)" % missing)
+                         "crushpost.formats.SUMMARY_KEYS: add a row (meaning, unit)" % missing)
+    assert not extra, ("README.md's summary.json table names %s, which "
+                       "crushpost.formats.SUMMARY_KEYS does not define" % extra)
 
 
-def test_every_readme_key_is_written_by_the_demo():
+def test_every_summary_key_is_defined():
     summary = json.loads((REPO / "bench/demo/summary.json").read_text())
+    undefined = sorted(set(summary) - set(SUMMARY_KEYS))
+    assert not undefined, ("bench/demo/summary.json has the keys %s, which "
+                           "crushpost.formats.SUMMARY_KEYS does not define" % undefined)
+
+
+def test_every_defined_key_is_written_by_the_demo():
     driver = (REPO / "examples/cpt_demo/run.py").read_text()
-    stale = sorted(k for k in readme_table_keys()
-                   if k not in summary and '"%s"' % k not in driver)
-    assert not stale, ("README.md's summary.json table names %s, which neither "
-                       "bench/demo/summary.json nor examples/cpt_demo/run.py has" % stale)
+    stale = sorted(k for k in SUMMARY_KEYS + SUMMARY_PREP_ONLY_KEYS if '"%s"' % k not in driver)
+    assert not stale, ("crushpost.formats.SUMMARY_KEYS defines %s, which "
+                       "examples/cpt_demo/run.py does not write" % stale)
