@@ -22,9 +22,10 @@ import numpy as np
 
 from .meshes import (annulus_triangles, cylinder_triangles, plate_triangles, rectangle_triangles,
                      write_pile_stl, write_stl)
+from .materials import RHO_GRAIN
 from .packing import D50_NE34, ne34_diameters, rsa_cylinder, rsa_cylinder_fast, write_lammps_data
 
-RHO_NE34 = 2600.0
+RHO_NE34 = RHO_GRAIN      # crushpost.materials
 SECTORS = (360, 180, 90)
 N_SEG_FULL = 48          # strips of the full lateral wall (and top wall sectors)
 N_ATOM_TYPES = 4         # material types of inputs/materials_ne34.in

@@ -7,6 +7,7 @@ from scipy.integrate import quad
 
 from crushpost.breakage import (breakage, breakage_index, fractal_grading_integral,
                                 fractal_psd, grading_integral, psd_curve, sphere_mass)
+from crushpost.materials import RHO_GRAIN
 
 D_MIN, D_MAX = 0.01e-3, 0.27e-3
 
@@ -27,7 +28,7 @@ def test_psd_curve_hand_values():
 def test_unchanged_grading_gives_zero():
     rng = np.random.default_rng(1)
     d = rng.uniform(0.15e-3, 0.27e-3, 500)
-    m = sphere_mass(d, 2600.0)
+    m = sphere_mass(d, RHO_GRAIN)
     res = breakage(d, m, d, m, D_MIN, D_MAX)
     assert res.B_t == 0.0 and res.Br == 0.0
     assert res.B_p > 0
@@ -120,8 +121,8 @@ def test_apollonian_fragments_and_errors():
     r = 0.1e-3
     r1, r2 = r / (1 + np.sqrt(2)), 0.230093 * r
     frag_d = np.array([2 * r1] * 6 + [2 * r2] * 8)
-    frag_m = sphere_mass(frag_d, 2600.0)
-    parent = sphere_mass(2 * r, 2600.0)
+    frag_m = sphere_mass(frag_d, RHO_GRAIN)
+    parent = sphere_mass(2 * r, RHO_GRAIN)
     assert frag_m.sum() / parent == pytest.approx(0.5239, abs=2e-4)
     fines = parent - frag_m.sum()
     res = breakage(frag_d, frag_m, [2 * r], [parent], D_MIN, D_MAX, m_fines=fines)
@@ -142,7 +143,7 @@ from crushpost.breakage import (N_BINS, R1_RATIO, R2_RATIO, BreakFines,  # noqa:
                                 bin_integrals, bounded_breakage_index, break_fines,
                                 limit_bin_integrals)
 
-RHO = 2600.0
+RHO = RHO_GRAIN
 
 
 def F_direct(x, d, m, lost, d_top, dropped_d, dropped_m, w, fractal=True):
