@@ -56,8 +56,8 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(REPO, "scripts"))
 
-from crushpost.materials import (D0, E_GRAIN, E_STEEL, M_SIZE, MU_GRAIN, RHO_GRAIN,  # noqa: E402
-                                 SIGMA_LIM0, rayleigh_time)
+from crushpost.materials import (D0, D_COMM_RATIO, D_LOC, E_GRAIN, E_STEEL, M_SIZE, MU_GRAIN,  # noqa: E402
+                                 RHO_GRAIN, SIGMA_LIM0, VAR, rayleigh_time)
 from crushpost.materials import NU_GRAIN as NU  # noqa: E402  (the steel's is the same, NU_STEEL)
 
 RHO = RHO_GRAIN
@@ -157,7 +157,7 @@ def crush_line(var, d_comm, extra):
 # --------------------------------------------------------------------------
 
 def oedometer(n=(6, 6, 6), d_mean=1.0e-3, spread=0.2, spacing=1.25e-3, speed=2.0, sigma=100e6,
-              var=0.36, d_comm=0.35e-3, d_frag_min=0.14e-3, chunk=2000, max_steps=400000, seed=1):
+              var=VAR, d_comm=0.35e-3, d_frag_min=0.14e-3, chunk=2000, max_steps=400000, seed=1):
     rng = np.random.default_rng(seed)
     pos = lattice(n, spacing)
     diam = d_mean * (1.0 - spread + 2.0 * spread * rng.random(len(pos)))
@@ -174,7 +174,7 @@ fix top all mesh/surface/stress file plate.stl type 2 move 0 0 {H!r}
 fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes top
 {side_walls(half)}fix mv all move/mesh mesh top linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(var, d_comm, f"d_frag_min {d_frag_min!r} energy_budget yes")}fix damp all damp/local alpha 0.05 energy yes
+{crush_line(var, d_comm, f"d_frag_min {d_frag_min!r} energy_budget yes")}fix damp all damp/local alpha {D_LOC:g} energy yes
 compute ke all ke
 variable sv equal f_top[3]/{area!r}
 variable st equal step
@@ -222,7 +222,7 @@ fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes to
 fix bottom all wall/gran model hertz tangential history primitive type 2 zplane 0.0
 fix mv all move/mesh mesh top linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(0.0, 0.55 * d, "")}thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13]
+{crush_line(0.0, D_COMM_RATIO * d, "")}thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13]
 thermo_modify format float %.17g lost error
 thermo 1000
 run {steps + 150}
@@ -257,7 +257,7 @@ fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes pi
 {side_walls(half)}fix lid all wall/gran model hertz tangential history primitive type 3 zplane {H + 2e-3!r}
 fix mv all move/mesh mesh pile linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(0.0, 0.55 * d, "")}fix damp all damp/local alpha 0.05
+{crush_line(0.0, D_COMM_RATIO * d, "")}fix damp all damp/local alpha {D_LOC:g}
 thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13] f_pile[3]
 thermo_modify format float %.17g lost error
 thermo 1000

@@ -25,7 +25,7 @@ import numpy as np  # noqa: E402
 from crushpost import oedometer  # noqa: E402
 from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.dump import read_crush_log, read_dump  # noqa: E402
-from crushpost.materials import D_COMM_RATIO, RHO_GRAIN  # noqa: E402
+from crushpost.materials import D_COMM_RATIO, D_MIN_BR, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
 from crushpost.prep import element_prep_summary, prep_time_step  # noqa: E402
@@ -80,7 +80,7 @@ def postprocess(args, out, wall, n0):
             # the fines of each break spread as fix crush/particle counts them
             # for Br (fines_grading fractal, d_min of inputs/crushable_ne34.in)
             steps, F = oedometer.psd_snapshots(pattern, RHO, sizes, events=read_crush_log(ev_path),
-                                               d_min=0.01e-3 * args.N)
+                                               d_min=D_MIN_BR * args.N)
         else:
             steps, F = oedometer.psd_snapshots(pattern, RHO, sizes)
         sv = np.interp(steps, stress["Step"], stress["sv"])

@@ -46,6 +46,7 @@ DENSITY = materials.RHO_GRAIN
 SIGMA0 = materials.SIGMA_LIM0
 M_WEIBULL = materials.M_SIZE
 D0 = materials.D0
+D50 = materials.D50                                # median grain size at N = 1 [m]
 SEED = 15485863                                    # a prime > 10000
 FRICTION_GG = materials.MU_GRAIN
 FRICTION_GW = materials.MU_PILE

@@ -63,12 +63,12 @@ import pytest
 import harness
 
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
-from crushpost.materials import MU_GRAIN  # noqa: E402
+from crushpost.materials import D50 as D50_1, MU_GRAIN  # noqa: E402
 from crushpost.prep import prep_time_step, read_prep_report, sample_porosities  # noqa: E402
 from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 
 N = 39
-D50 = 0.21e-3 * N
+D50 = D50_1 * N
 R_PILE = 0.018
 # docs/model.md §4.1: NE34 at Dr 72 %; the decks' default n_target and n_tol
 # (inputs/prepare_expand.in) must prepare this.

@@ -45,7 +45,7 @@ from crushpost.materials import E_STEEL, NU_STEEL, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import rectangle_triangles, write_stl  # noqa: E402
 
 N = 39
-D = 39 * 0.21e-3              # the grain: 39 d50 at N = 39 = d50 of the chamber
+D = 39 * cd.D50               # the grain: 39 d50 at N = 39 = d50 of the chamber
 R = 0.5 * D
 SIGMA = cd.strength(D, N)     # var 0: f = 1
 E_STAR_RIGID = cd.E_GRAIN / (1.0 - cd.NU_GRAIN ** 2)

@@ -7,9 +7,9 @@ from scipy.integrate import quad
 
 from crushpost.breakage import (breakage, breakage_index, fractal_grading_integral,
                                 fractal_psd, grading_integral, psd_curve, sphere_mass)
-from crushpost.materials import RHO_GRAIN
+from crushpost.materials import D50, D_COMM_RATIO, D_MAX_BR, D_MIN_BR, RHO_GRAIN
 
-D_MIN, D_MAX = 0.01e-3, 0.27e-3
+D_MIN, D_MAX = D_MIN_BR, D_MAX_BR
 
 
 def F_reference(d, dp, mp, mf):
@@ -279,8 +279,8 @@ def test_limit_bins_and_br_endpoints():
 
 
 @pytest.mark.parametrize("fractal", [True, False])
-@pytest.mark.parametrize("d_comm,d_frag_min", [(0.55 * 0.21e-3, 0.0), (0.0, 0.03e-3),
-                                               (0.55 * 0.21e-3, 0.03e-3)])
+@pytest.mark.parametrize("d_comm,d_frag_min", [(D_COMM_RATIO * D50, 0.0), (0.0, 0.03e-3),
+                                               (D_COMM_RATIO * D50, 0.03e-3)])
 def test_br_bounded_for_random_histories(fractal, d_comm, d_frag_min):
     grading = "fractal" if fractal else "d_min"
     U = limit_bin_integrals(D_MIN, D_MAX)
@@ -336,7 +336,7 @@ def test_bound_when_every_grain_broke_once():
 
 
 def test_fractal_fines_give_smaller_br_than_fines_at_d_min():
-    for d, m, fines in _history(8, True, 0.55 * 0.21e-3, 0.0, 40):
+    for d, m, fines in _history(8, True, D_COMM_RATIO * D50, 0.0, 40):
         d0, m0 = _initial(8)
         a = breakage(d, m, d0, m0, D_MIN, D_MAX, fines=fines)
         b = breakage(d, m, d0, m0, D_MIN, D_MAX, fines=fines, fines_grading="d_min")

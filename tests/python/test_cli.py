@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from crushpost.cli import main
-from crushpost.materials import RHO_GRAIN
+from crushpost.materials import D_MAX_BR, D_MIN_BR, RHO_GRAIN
 
 
 
@@ -35,7 +35,7 @@ def test_br_one_parent_crushed(tmp_path, capsys):
     events = tmp_path / "events.txt"
     events.write_text("# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n"
                       "500 1e-4 4 %.17g 0.5 0.5 0.5 1.0 0.9 particle 0\n" % (2 * r))
-    d_min, d_max, d = 0.01e-3, 0.27e-3, 2 * r
+    d_min, d_max, d = D_MIN_BR, D_MAX_BR, 2 * r
     vp, v1, v2 = r ** 3, r1 ** 3, r2 ** 3  # masses in units of rho pi/6 * 8
     fines = vp - 6 * v1 - 8 * v2
     L = np.log(d_max / d_min)
