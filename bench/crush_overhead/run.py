@@ -67,12 +67,14 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 DECK = os.path.join(HERE, "in.crush_overhead")
+sys.path.insert(0, os.path.join(REPO, "scripts"))
+
+from crushpost.materials import D0, D50, G_GRAIN, M_SIZE, NU_GRAIN, RHO_GRAIN, SIGMA_LIM0, VAR  # noqa: E402
 
 # NE34 at scale N (docs/model.md §3) and the constants of inputs/crushable_ne34.in,
 # inputs/materials_ne34.in
-D50_REAL = 0.21e-3
-SIGMA_LIM0, M_WEIBULL, D0, VAR = 1.9e9, 10.0, 2e-3, 0.36
-G_GRAIN, NU_GRAIN, RHO = 9e9, 0.2, 2600.0
+D50_REAL = D50
+M_WEIBULL, RHO = M_SIZE, RHO_GRAIN
 SEED = 15485863
 
 MASK64 = (1 << 64) - 1

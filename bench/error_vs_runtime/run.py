@@ -54,23 +54,18 @@ import numpy as np  # noqa: E402
 
 from crushpost import restart as rs  # noqa: E402
 from crushpost import study  # noqa: E402
+from crushpost.materials import D50, D_COMM_RATIO, rayleigh_time  # noqa: E402
 from crushpost.runner import (default_binary, log_errors, process_alive, read_pid,  # noqa: E402
                               remove_tree, snapshot_tree)
 from crushpost.thermo import parse_log  # noqa: E402
 
 # NE34 at N = 1 (docs/model.md §3; inputs/materials_ne34.in, crushable_ne34.in)
-D50_1 = 0.21e-3
-G_GRAIN, NU_GRAIN, RHO = 9e9, 0.2, 2600.0
+D50_1 = D50
 SMALL_FRAGMENT_RATIO = 0.23         # smallest fragment over its parent (docs/model.md §5)
 R_PILE = 0.018                      # pile radius of the demo and the study (m)
 
 
-def rayleigh_time(r, rho=RHO, G=G_GRAIN, nu=NU_GRAIN):
-    """Rayleigh time (docs/model.md §5): T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
-    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
-
-
-def time_step(N, dt_frac, d_comm_ratio=0.55, d_scale_ref=0.0):
+def time_step(N, dt_frac, d_comm_ratio=D_COMM_RATIO, d_scale_ref=0.0):
     """dt = dt_frac x the Rayleigh time of the smallest particle that can
     occur: the smallest fragment of a grain just above d_comm, or, under
     density scaling, a particle of size d_scale_ref (its scaled density
@@ -86,7 +81,7 @@ def time_step(N, dt_frac, d_comm_ratio=0.55, d_scale_ref=0.0):
 # demo's time step (0.156 of the smallest Rayleigh time), no density scaling,
 # the paper's comminution limit.
 CHAMBER_REF = {"N": 39.0, "R_ch_over_R": 8.0, "sector": 90, "dt_frac": 0.156, "d_scale_ref_d50": 0.0,
-               "v_push": 1.0, "d_comm_ratio": 0.55, "H_ch": 0.3, "depth": 0.2,
+               "v_push": 1.0, "d_comm_ratio": D_COMM_RATIO, "H_ch": 0.3, "depth": 0.2,
                "n_target": 0.385, "packing_seed": 2024}
 CHAMBER_VARIANTS = [
     ("N", [30.0, 50.0]),
@@ -98,7 +93,7 @@ CHAMBER_VARIANTS = [
     ("d_comm_ratio", [0.7, 0.85]),
 ]
 OEDO_REF = {"N": 39.0, "R_d50": 5.0, "H_d50": 8.0, "dt_frac": 0.156, "d_scale_ref_d50": 0.0,
-            "v_load": 1.0, "d_comm_ratio": 0.55, "sv_max": 30e6, "n_target": 0.385,
+            "v_load": 1.0, "d_comm_ratio": D_COMM_RATIO, "sv_max": 30e6, "n_target": 0.385,
             "packing_seed": 2024}
 OEDO_VARIANTS = [
     ("N", [30.0, 50.0]),

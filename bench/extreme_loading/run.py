@@ -11,8 +11,8 @@ Needs build/liggghts (or --liggghts) built with fix crush/particle's
 `energy` keywords. Scenes (small, minutes on one core):
 
 oedometer  grains (d 0.8-1.2 mm, var 0.36) on a loose cubic lattice in a
-           rigid box with frictionless walls, friction 0.275 between
-           grains, local damping 0.05, a frictionless steel platen pushed
+           rigid box with frictionless walls, the calibrated friction
+           between grains (crushpost.materials.MU_GRAIN), local damping 0.05, a frictionless steel platen pushed
            down at constant speed until the vertical stress passes
            --sigma (100 MPa); fragments of fragments break again
            (d_comm 0.35 mm; fragments finer than d_frag_min 0.14 mm go to
@@ -54,15 +54,14 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
 
-E_GRAIN, NU = 21.6e9, 0.2
-E_STEEL = 204e9
-RHO = 2600.0
+from crushpost.materials import (D0, D_COMM_RATIO, D_LOC, E_GRAIN, E_STEEL, M_SIZE, MU_GRAIN,  # noqa: E402
+                                 RHO_GRAIN, SIGMA_LIM0, VAR, rayleigh_time)
+from crushpost.materials import NU_GRAIN as NU  # noqa: E402  (the steel's is the same, NU_STEEL)
+
+RHO = RHO_GRAIN
 SEED = 15485863
-
-
-def rayleigh_time(r, rho=RHO, G=9e9, nu=NU):
-    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 
 def header(box, mu_gg, mu_gs, skin):
@@ -149,7 +148,7 @@ def side_walls(half):
 
 
 def crush_line(var, d_comm, extra):
-    return (f"fix crush all crush/particle sigma_lim0 1.9e9 m 10 d0 0.002 scale 1 var {var!r} "
+    return (f"fix crush all crush/particle sigma_lim0 {SIGMA_LIM0:g} m {M_SIZE:g} d0 {D0:g} scale 1 var {var!r} "
             f"d_comm {d_comm!r} seed {SEED} events events.txt energy yes energy_window 20 {extra}\n")
 
 
@@ -158,7 +157,7 @@ def crush_line(var, d_comm, extra):
 # --------------------------------------------------------------------------
 
 def oedometer(n=(6, 6, 6), d_mean=1.0e-3, spread=0.2, spacing=1.25e-3, speed=2.0, sigma=100e6,
-              var=0.36, d_comm=0.35e-3, d_frag_min=0.14e-3, chunk=2000, max_steps=400000, seed=1):
+              var=VAR, d_comm=0.35e-3, d_frag_min=0.14e-3, chunk=2000, max_steps=400000, seed=1):
     rng = np.random.default_rng(seed)
     pos = lattice(n, spacing)
     diam = d_mean * (1.0 - spread + 2.0 * spread * rng.random(len(pos)))
@@ -168,14 +167,14 @@ def oedometer(n=(6, 6, 6), d_mean=1.0e-3, spread=0.2, spacing=1.25e-3, speed=2.0
     dt = 0.15 * rayleigh_time(r_min)
     area = (2 * half) ** 2
     text = header(f"{-half - 1e-4!r} {half + 1e-4!r} {-half - 1e-4!r} {half + 1e-4!r} -1e-4 {H + 2e-3!r}",
-                  0.275, 0.0, 0.1e-3)
+                  MU_GRAIN, 0.0, 0.1e-3)
     text += f"timestep {dt!r}\n" + atoms_text(pos, diam)
     text += f"""\
 fix top all mesh/surface/stress file plate.stl type 2 move 0 0 {H!r}
 fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes top
 {side_walls(half)}fix mv all move/mesh mesh top linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(var, d_comm, f"d_frag_min {d_frag_min!r} energy_budget yes")}fix damp all damp/local alpha 0.05 energy yes
+{crush_line(var, d_comm, f"d_frag_min {d_frag_min!r} energy_budget yes")}fix damp all damp/local alpha {D_LOC:g} energy yes
 compute ke all ke
 variable sv equal f_top[3]/{area!r}
 variable st equal step
@@ -208,7 +207,7 @@ def same_step(n=(5, 5, 3), d=1.0e-3, speed=0.2):
     H = n[2] * d + 0.002 * d
     dt = 0.15 * rayleigh_time(0.5 * d * 0.230093)
     # travel to the grain-grain limit of a column (Hertz, docs/model.md §2.4)
-    sig = 1.9e9 * (d / 0.002) ** (-0.3)
+    sig = SIGMA_LIM0 * (d / D0) ** (-3.0 / M_SIZE)
     Es_gg = 1.0 / (2 * (1 - NU ** 2) / E_GRAIN)
     Es_gs = 1.0 / ((1 - NU ** 2) / E_GRAIN + (1 - NU ** 2) / E_STEEL)
     F = (math.pi * sig) ** 3 * (3 * (d / 4) / (4 * Es_gg)) ** 2
@@ -223,7 +222,7 @@ fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes to
 fix bottom all wall/gran model hertz tangential history primitive type 2 zplane 0.0
 fix mv all move/mesh mesh top linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(0.0, 0.55 * d, "")}thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13]
+{crush_line(0.0, D_COMM_RATIO * d, "")}thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13]
 thermo_modify format float %.17g lost error
 thermo 1000
 run {steps + 150}
@@ -250,7 +249,7 @@ def pile_tip(n=(6, 6, 3), d=1.0e-3, speed=0.5, R_pile=1.5e-3):
     depth = 2.5e-3
     steps = int(depth / (speed * dt))
     text = header(f"{-half - 1e-4!r} {half + 1e-4!r} {-half - 1e-4!r} {half + 1e-4!r} -1e-4 {H + hc + 4e-3!r}",
-                  0.275, 0.5, 0.3e-3)
+                  MU_GRAIN, 0.5, 0.3e-3)
     text += f"timestep {dt!r}\n" + atoms_text(pos, np.full(len(pos), d))
     text += f"""\
 fix pile all mesh/surface/stress file pile.stl type 2 move 0 0 {z0!r}
@@ -258,7 +257,7 @@ fix walls all wall/gran model hertz tangential history mesh n_meshes 1 meshes pi
 {side_walls(half)}fix lid all wall/gran model hertz tangential history primitive type 3 zplane {H + 2e-3!r}
 fix mv all move/mesh mesh pile linear 0. 0. {-speed!r}
 fix integrate all nve
-{crush_line(0.0, 0.55 * d, "")}fix damp all damp/local alpha 0.05
+{crush_line(0.0, D_COMM_RATIO * d, "")}fix damp all damp/local alpha {D_LOC:g}
 thermo_style custom step atoms f_crush[1] f_crush[11] f_crush[13] f_pile[3]
 thermo_modify format float %.17g lost error
 thermo 1000

@@ -67,12 +67,13 @@ DECK = os.path.join(HERE, "in.icount")
 sys.path.insert(0, os.path.join(REPO, "scripts"))
 
 from crushpost.chamber import N_SEG_FULL, hole_radius  # noqa: E402
+from crushpost.materials import D50, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import (annulus_triangles, cone_height, cylinder_triangles,  # noqa: E402
                               plate_triangles, write_pile_stl, write_stl)
 from crushpost.packing import write_lammps_data  # noqa: E402
 
-D50_REAL = 0.21e-3
-RHO = 2600.0
+D50_REAL = D50
+RHO = RHO_GRAIN
 SEED = 15485863
 
 # ---------------------------------------------------------------------------

@@ -51,6 +51,7 @@ import numpy as np  # noqa: E402
 from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
+from crushpost.materials import D_COMM_RATIO, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
 from crushpost.pile import PHASE_PUSH, break_zones, event_phases, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
@@ -65,7 +66,7 @@ from crushpost.spheres import (chamber_sphere_centres, check_chamber_spheres,  #
 from crushpost.thermo import parse_log  # noqa: E402
 from crushpost.trend import fit_qc_trend, qc_trend, virgin_mask  # noqa: E402
 
-RHO = 2600.0
+RHO = RHO_GRAIN
 OUTPUT_BLOCK = {"none": "none", "particles": "vtk_dumps", "contacts": "vtk_dumps_contacts"}
 SPHERE_RADIUS_D50 = 1.5            # measurement-sphere radius in d50
 
@@ -141,7 +142,7 @@ def run_deck(a, out, tip_z0, progress=None, part=0, restart_file=None):
          "jack_every": a.jack_every, "output_block": OUTPUT_BLOCK[a.vtk], "vtk_every": a.vtk_every}
     if a.d_scale_ref > 0:
         v["d_scale_ref"] = a.d_scale_ref
-    if a.d_comm_ratio != 0.55:
+    if a.d_comm_ratio != D_COMM_RATIO:
         v["d_comm_ratio"] = a.d_comm_ratio
     if a.crush_reading != CRUSH_READING_PRINTED:
         v["crush_reading"] = a.crush_reading
@@ -500,7 +501,7 @@ def main(argv=None):
                    help="density scaling of particles finer than this (m; fix crush/particle "
                    "density_scale, docs/fix_crush_particle.md); 0 = off. The time step --dt "
                    "stays as given")
-    p.add_argument("--d-comm-ratio", type=float, default=0.55,
+    p.add_argument("--d-comm-ratio", type=float, default=D_COMM_RATIO,
                    help="comminution limit d_comm / d50 (docs/model.md §3: 0.55); grains finer than "
                    "d_comm do not break (a grain breaks when d >= d_comm)")
     p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,

@@ -25,12 +25,13 @@ import numpy as np  # noqa: E402
 from crushpost import oedometer  # noqa: E402
 from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
 from crushpost.dump import read_crush_log, read_dump  # noqa: E402
+from crushpost.materials import D_COMM_RATIO, D_MIN_BR, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
 from crushpost.prep import element_prep_summary, prep_time_step  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 
-RHO = 2600.0
+RHO = RHO_GRAIN
 
 
 def build(args, out):
@@ -58,7 +59,7 @@ def run_deck(args, out, R, H):
          "dt_prep": args.dt_prep or prep_time_step(os.path.join(out, "grains.data"))}
     if args.d_scale_ref > 0:
         v["d_scale_ref"] = args.d_scale_ref
-    if args.d_comm_ratio != 0.55:
+    if args.d_comm_ratio != D_COMM_RATIO:
         v["d_comm_ratio"] = args.d_comm_ratio
     if args.crush_reading != CRUSH_READING_PRINTED:
         v["crush_reading"] = args.crush_reading
@@ -79,7 +80,7 @@ def postprocess(args, out, wall, n0):
             # the fines of each break spread as fix crush/particle counts them
             # for Br (fines_grading fractal, d_min of inputs/crushable_ne34.in)
             steps, F = oedometer.psd_snapshots(pattern, RHO, sizes, events=read_crush_log(ev_path),
-                                               d_min=0.01e-3 * args.N)
+                                               d_min=D_MIN_BR * args.N)
         else:
             steps, F = oedometer.psd_snapshots(pattern, RHO, sizes)
         sv = np.interp(steps, stress["Step"], stress["sv"])
@@ -171,7 +172,7 @@ def main(argv=None):
     p.add_argument("--d-scale-ref", type=float, default=0.0,
                    help="density scaling of particles finer than this (m; fix crush/particle "
                    "density_scale); 0 = off")
-    p.add_argument("--d-comm-ratio", type=float, default=0.55,
+    p.add_argument("--d-comm-ratio", type=float, default=D_COMM_RATIO,
                    help="comminution limit d_comm / d50 (docs/model.md §3: 0.55)")
     p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
                    help="keywords of the criterion reading given to fix crush/particle "

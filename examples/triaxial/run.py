@@ -32,15 +32,15 @@ import numpy as np  # noqa: E402
 
 from crushpost import triaxial  # noqa: E402
 from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
+from crushpost.materials import D_COMM_RATIO, RHO_GRAIN, rayleigh_time  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
 from crushpost.prep import element_prep_summary  # noqa: E402
 from crushpost.runner import run_liggghts  # noqa: E402
 
-RHO = 2600.0
-G_GRAIN, NU_GRAIN = 9e9, 0.2
+RHO = RHO_GRAIN
 FRAGMENT_SMALL = 0.230093     # radius of the small Apollonian fragment / parent radius
-D_COMM_D50 = 0.55             # comminution limit / d50 (docs/model.md §3)
+D_COMM_D50 = D_COMM_RATIO     # comminution limit / d50 (docs/model.md §3)
 
 # Plate spans relative to the specimen (see docs/triaxial.md): lateral plates
 # reach LATERAL_Z_SPAN * H / 2 from mid-height and LATERAL_SPAN * W / 2 across;
@@ -58,11 +58,6 @@ SIZES = {
     "default": (12.0, 12.0),
     "small": (6.0, 6.0),
 }
-
-
-def rayleigh_time(r, rho=RHO, G=G_GRAIN, nu=NU_GRAIN):
-    """Rayleigh time of a sphere of radius r (docs/model.md §5)."""
-    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 
 def auto_dt(grains, N, d_placed_min, fraction=0.15):

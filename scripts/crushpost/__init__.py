@@ -3,6 +3,8 @@
 
 Pure functions on numpy arrays; see each module for units and conventions.
 
+* :mod:`crushpost.materials` - the calibrated constants (NE34, steel; docs/model.md
+  §3) and the Rayleigh time, the Python side of inputs/materials_ne34.in.
 * :mod:`crushpost.breakage` - PSD curves and the Einav breakage index Br.
 * :mod:`crushpost.trend` - fit q_c(h) = a (1 - exp(-b h)); virgin penetration.
 * :mod:`crushpost.pile` - the fix jack/pile series, the tip position, points

@@ -43,6 +43,8 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .materials import OMEGA
+
 __all__ = [
     "W_FRACTAL", "N_BINS", "R1_RATIO", "R2_RATIO", "FINES_GRADINGS", "sphere_mass",
     "psd_curve", "fractal_psd", "grading_integral", "fractal_grading_integral",
@@ -51,7 +53,7 @@ __all__ = [
 ]
 
 #: Fractal dimension of the limit grading used in the calibration (docs/model.md §2.8).
-W_FRACTAL = 2.6
+W_FRACTAL = OMEGA          # crushpost.materials
 
 #: The printed criterion reading of fix crush/particle (docs/fix_crush_particle.md
 #: "Criterion readings"): the default of inputs/crushable_ne34.in's crush_reading

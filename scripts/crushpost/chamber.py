@@ -22,9 +22,10 @@ import numpy as np
 
 from .meshes import (annulus_triangles, cylinder_triangles, plate_triangles, rectangle_triangles,
                      write_pile_stl, write_stl)
+from .materials import D_COMM_RATIO, RHO_GRAIN
 from .packing import D50_NE34, ne34_diameters, rsa_cylinder, rsa_cylinder_fast, write_lammps_data
 
-RHO_NE34 = 2600.0
+RHO_NE34 = RHO_GRAIN      # crushpost.materials
 SECTORS = (360, 180, 90)
 N_SEG_FULL = 48          # strips of the full lateral wall (and top wall sectors)
 N_ATOM_TYPES = 4         # material types of inputs/materials_ne34.in
@@ -62,7 +63,7 @@ def _small_fragment_ratio():
 SMALL_FRAGMENT_RATIO = _small_fragment_ratio()
 
 
-def smallest_fragment_diameter(N, d_comm_over_d50=0.55):
+def smallest_fragment_diameter(N, d_comm_over_d50=D_COMM_RATIO):
     """Diameter [m] of the smallest fragment that can exist at up-scaling N:
     the small fragment of the smallest breakable grain (d = d_comm =
     0.55 d50, d50 = 0.21 mm N): 0.230093 d_comm, 1.04 mm at N = 39."""

@@ -12,6 +12,7 @@ from .breakage import W_FRACTAL, break_fines, breakage
 from .chamber import hole_gap, hole_radius, smallest_fragment_diameter
 from .dump import read_crush_log, read_dump, true_mass
 from .inputfile import InputFileError, read_checked
+from .materials import D_MAX_BR, D_MIN_BR, RHO_GRAIN
 from .meshes import write_pile_stl
 from .spheres import chamber_sphere_centres, write_sphere_block
 from .thermo import concat_blocks, read_log, summarize
@@ -19,8 +20,8 @@ from .pile import read_jack
 from .trend import fit_qc_trend, mean_of_last_bands, qc_band_means, virgin_mask
 
 # Calibrated NE34 limits at real size (docs/model.md §3) [m]; scaled by N.
-D_MIN_REAL = 0.01e-3
-D_MAX_REAL = 0.27e-3
+D_MIN_REAL = D_MIN_BR
+D_MAX_REAL = D_MAX_BR
 
 
 def _read(path, reader, what):
@@ -244,7 +245,7 @@ def build_parser():
     br.add_argument("--d-max", type=float, help="d_max [m] (default 0.27 mm * N)")
     br.add_argument("--w", type=float, default=W_FRACTAL,
                     help="fractal dimension of the limit grading (default 2.6)")
-    br.add_argument("--density", type=float, default=2600.0,
+    br.add_argument("--density", type=float, default=RHO_GRAIN,
                     help="particle density [kg/m^3] for the grains' true mass when the dump "
                     "has no true-mass column (v_mass_true or c_crush_atom[3]; the mass column "
                     "is not used: density scaling raises it), "

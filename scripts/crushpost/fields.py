@@ -17,6 +17,7 @@ from scipy import sparse
 
 from .breakage import (N_BINS, W_FRACTAL, _fractal_P, break_fines, cell_particle_bins,
                        limit_bin_integrals, sphere_mass)
+from .materials import RHO_GRAIN
 from .rotation import major_axis_angle
 from .trend import qc_trend
 
@@ -158,7 +159,7 @@ def _cell_fractal_bins(cell, m, d_f, d_min, d_max, w, n_cells, n, chunk=4096):
 
 
 def cell_breakage(cell, d, cell0, d0, n_cells, d_min, d_max, ev_cell=None, ev_parent_d=None,
-                  density=2600.0, w=W_FRACTAL, n=N_BINS, d_frag_min=0.0):
+                  density=RHO_GRAIN, w=W_FRACTAL, n=N_BINS, d_frag_min=0.0):
     """Bounded Einav breakage index Br of many cells at once (bands, layers).
 
     Each cell's current grading is its grains now (``cell``: cell index of

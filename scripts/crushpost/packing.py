@@ -15,8 +15,10 @@ import math
 import numpy as np
 from scipy.special import ndtri
 
-D50_NE34 = 0.21e-3  # m, real size
-CU_NE34 = 1.47
+from .materials import CU, D50
+
+D50_NE34 = D50  # m, real size (crushpost.materials)
+CU_NE34 = CU
 SIGMA_LN = math.log(CU_NE34) / (ndtri(0.60) - ndtri(0.10))
 TRUNCATE = 2.5
 

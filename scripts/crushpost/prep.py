@@ -18,6 +18,7 @@ import re
 
 import numpy as np
 
+from .materials import G_GRAIN, NU_GRAIN, RHO_GRAIN, rayleigh_time
 from .stress import ring_averages, sphere_ring_volume
 
 __all__ = ["cap_fraction", "core_area", "core_volumes", "sample_porosities", "ring_edges",
@@ -257,11 +258,6 @@ def data_file_diameters(path):
     return np.array(d)
 
 
-def rayleigh_time(r, rho=2600.0, G=9e9, nu=0.2):
-    """Rayleigh time of a sphere of radius r (docs/model.md §5) [s]."""
-    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
-
-
 def element_prep_summary(log_path, n_target, s_prep):
     """The prepared specimen of an element test (oedometer, triaxial) as its
     deck reported it (inputs/prepare_expand.in's EXPANDED line): porosity of
@@ -278,7 +274,7 @@ def element_prep_summary(log_path, n_target, s_prep):
             "mu_prep_final": exp.get("mu_prep"), "liggghts_time_s": seconds, "steps": steps}
 
 
-def prep_time_step(data_file, fraction=0.15, rho=2600.0, G=9e9, nu=0.2):
+def prep_time_step(data_file, fraction=0.15, rho=RHO_GRAIN, G=G_GRAIN, nu=NU_GRAIN):
     """Time step of the preparation: ``fraction`` of the Rayleigh time of the
     smallest grain as placed (no crushing, so no fragment, before the
     jacking; the grains only grow). The chamber walls have the grain's

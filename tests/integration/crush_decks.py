@@ -30,22 +30,26 @@ from scipy.optimize import brentq
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
+from crushpost import materials  # noqa: E402
+from crushpost.materials import rayleigh_time  # noqa: E402,F401  (cd.rayleigh_time of the deck tests)
 
 # --------------------------------------------------------------------------
-# docs/model.md §3 material (NE34 quartz) and the steel of the pile / platens
+# docs/model.md §3 material (NE34 quartz, crushpost.materials) and the steel
+# of the pile / platens
 # --------------------------------------------------------------------------
-G_GRAIN = 9.0e9
-NU_GRAIN = 0.2
+G_GRAIN = materials.G_GRAIN
+NU_GRAIN = materials.NU_GRAIN
 E_GRAIN = 2.0 * G_GRAIN * (1.0 + NU_GRAIN)        # 21.6 GPa
-E_STEEL = 200.0e9
-NU_STEEL = 0.2
-DENSITY = 2600.0
-SIGMA0 = 1.9e9
-M_WEIBULL = 10.0
-D0 = 0.002
+E_STEEL = 200.0e9                                  # these tests' steel (materials.E_STEEL: 204 GPa)
+NU_STEEL = materials.NU_STEEL
+DENSITY = materials.RHO_GRAIN
+SIGMA0 = materials.SIGMA_LIM0
+M_WEIBULL = materials.M_SIZE
+D0 = materials.D0
+D50 = materials.D50                                # median grain size at N = 1 [m]
 SEED = 15485863                                    # a prime > 10000
-FRICTION_GG = 0.275
-FRICTION_GW = 0.5
+FRICTION_GG = materials.MU_GRAIN
+FRICTION_GW = materials.MU_PILE
 
 
 
@@ -80,10 +84,6 @@ def hertz_force(delta, R_star, E_star):
 def hertz_overlap(F, R_star, E_star):
     """Overlap at which the Hertz force is F (inverse of hertz_force)."""
     return (3.0 * F / (4.0 * E_star * math.sqrt(R_star))) ** (2.0 / 3.0)
-
-
-def rayleigh_time(r, rho=DENSITY, G=G_GRAIN, nu=NU_GRAIN):
-    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 
 def sphere_mass(r, rho=DENSITY):

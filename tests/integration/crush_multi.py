@@ -12,11 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-# docs/model.md §3 material (NE34 quartz): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa.
-# Type 2 is the wall material (steel).
-E_GRAIN, NU_GRAIN = 21.6e9, 0.2
+from crushpost.materials import E_GRAIN, MU_GRAIN, NU_GRAIN, RHO_GRAIN, rayleigh_time  # noqa: F401
+
+# docs/model.md §3 material (NE34 quartz, crushpost.materials): G = 9 GPa,
+# nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa. Type 2 is the wall material (steel).
 E_WALL, NU_WALL = 200e9, 0.2
-DENSITY = 2600.0
+DENSITY = RHO_GRAIN
 SEED_FIX = 15485863           # a prime > 10000
 
 # Apollonian fragment radii (docs/model.md §2.6)
@@ -40,12 +41,6 @@ assert abs(R2_RATIO - 0.230093) < 5e-7
 def sphere_mass(d, rho=DENSITY):
     d = np.asarray(d, dtype=float)
     return math.pi / 6.0 * d ** 3 * rho
-
-
-def rayleigh_time(r, rho=DENSITY, E=E_GRAIN, nu=NU_GRAIN):
-    """docs/model.md §5: T_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766)."""
-    G = E / (2.0 * (1.0 + nu))
-    return math.pi * r * math.sqrt(rho / G) / (0.1631 * nu + 0.8766)
 
 
 def smallest_fragment_radius(d_comm):
@@ -143,7 +138,7 @@ thermo_modify   lost error
 fix m1 all property/global youngsModulus peratomtype {E_GRAIN!r} {E_WALL!r}
 fix m2 all property/global poissonsRatio peratomtype {NU_GRAIN!r} {NU_WALL!r}
 fix m3 all property/global coefficientRestitution peratomtypepair 2 0.5 0.5 0.5 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 2 0.275 0.5 0.5 0.5
+fix m4 all property/global coefficientFriction peratomtypepair 2 {MU_GRAIN:g} 0.5 0.5 0.5
 pair_style      gran model hertz tangential history
 pair_coeff      * *
 """

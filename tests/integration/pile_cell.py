@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 import harness
+from crushpost.materials import RHO_GRAIN
 from crushpost.packing import ne34_diameters, rsa_cylinder, write_lammps_data
 
 INPUTS = harness.REPO / "inputs"
@@ -20,7 +21,7 @@ N_SCALE = 39
 SOLID = 0.6
 G_GRAIN = 9e8
 G_ACC = 981.0
-RHO = 2600.0
+RHO = RHO_GRAIN
 
 
 def header(data_file, R_cell, dt):

@@ -23,6 +23,7 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
+from crushpost.materials import SIGMA_LIM0  # noqa: E402
 from crushpost.meshes import cylinder_triangles, write_stl  # noqa: E402
 
 TIMEOUT = 30          # s per deck: each fails (or runs) at once; more means a hang
@@ -44,7 +45,7 @@ MESH = "fix side all mesh/surface/stress file side.stl type 1\n"
 # style -> (command, good keyword/value pairs, lines the deck needs before it)
 STYLES = {
     "fix crush/particle": ("fix bad all crush/particle",
-                           [("sigma_lim0", "1.9e9"), ("m", "10"), ("d0", "0.002"),
+                           [("sigma_lim0", "%g" % SIGMA_LIM0), ("m", "10"), ("d0", "0.002"),
                             ("scale", "1"), ("var", "0.36"), ("d_comm", "5e-4"),
                             ("seed", "15485863")], ""),
     "fix damp/local": ("fix bad all damp/local", [("alpha", "0.05")], ""),

@@ -42,6 +42,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
 from crushpost.chamber import symmetry_planes  # noqa: E402
+from crushpost.materials import RHO_GRAIN  # noqa: E402
 from crushpost.meshes import cylinder_triangles, plate_triangles, write_pile_stl, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
 
@@ -52,7 +53,7 @@ H = 5.0 * D50
 SOLID_FRACTION0 = 0.28
 SECTOR = 90.0
 PACKING_SEED = 10007
-RHO = 2600.0
+RHO = RHO_GRAIN
 T1, K1, VMAX1 = 76e3, 1e-5, 1.0
 STEPS1 = 60000
 R_PILE = 0.018

@@ -19,7 +19,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import crush_decks as cd  # noqa: E402
 
-REQUIRED = [("sigma_lim0", "1.9e9"), ("m", "10"), ("d0", "0.002"), ("scale", "1"),
+REQUIRED = [("sigma_lim0", "%g" % cd.SIGMA0), ("m", "10"), ("d0", "0.002"), ("scale", "1"),
             ("var", "0.36"), ("d_comm", "5e-4"), ("seed", str(cd.SEED))]
 D_GRAIN = 1.0e-3
 

@@ -56,11 +56,12 @@ from harness import REPO  # noqa: E402
 
 from crushpost.breakage import break_fines  # noqa: E402
 from crushpost.dump import read_crush_log  # noqa: E402
+from crushpost.materials import RHO_GRAIN  # noqa: E402
 from crushpost.thermo import read_log  # noqa: E402
 
 RUN_TIMEOUT = 300
 DT = 1.5e-7                      # run.py's default --dt: the jacking's time step
-RHO = 2600.0
+RHO = RHO_GRAIN
 WEAK_READING = "pressure peak force normal size_law printed scatter normal"
 SCENE = ["--np", "1", "--sector", "180", "--R-ch", "0.04", "--H-ch", "0.05", "--R-pile", "0.012",
          "--n-target", "0.39", "--mode", "monotonic", "--depth", "0.02", "--snapshots", "no",

@@ -69,7 +69,7 @@ READINGS = {
                              crush_extra="force sliding"), None),
     "peak_sliding": (ReadingStack("peak_sliding", [1.0e-3], k=PEAK * SLIDING_STEEL, speed=0.02, top=sg.T_STEEL,
                                   bottom=sg.T_STEEL, crush_extra="pressure peak force sliding"), None),
-    "no_N": (ReadingStack("no_N", [39 * 0.21e-3], N=39, no_N=True, speed=0.005, half=0.02,
+    "no_N": (ReadingStack("no_N", [39 * cd.D50], N=39, no_N=True, speed=0.005, half=0.02,
                           crush_extra="size_law no_N"), "top"),
 }
 
@@ -100,7 +100,7 @@ def test_readings_factors():
     assert 1.5 * F / (math.pi * a * a) == pytest.approx(sigma, rel=1e-12)   # peak pressure
     assert 1.0 / PEAK == pytest.approx(3.375, rel=1e-15)
     # size term at the scaled diameter without N: F_lim / 27 at N = 39, m = 10
-    d = 39 * 0.21e-3
+    d = 39 * cd.D50
     ratio = (cd.limit_force(cd.strength(d, 1), Rs, Es) / cd.limit_force(cd.strength(d, 39), Rs, Es))
     assert ratio == pytest.approx(39 ** -0.9, rel=1e-12)
     assert 1 / ratio == pytest.approx(27.0, rel=0.03)

@@ -29,13 +29,14 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
+from crushpost.materials import E_GRAIN, MU_GRAIN, NU_GRAIN, RHO_GRAIN  # noqa: E402
 
-# docs/model.md §3 material (NE34 quartz): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa
-YOUNG = 21.6e9
-POISSON = 0.2
-FRICTION = 0.275
+# docs/model.md §3 material (NE34 quartz, crushpost.materials): G = 9 GPa, nu = 0.2 -> E = 2 G (1 + nu) = 21.6 GPa
+YOUNG = E_GRAIN
+POISSON = NU_GRAIN
+FRICTION = MU_GRAIN
 DIAMETER = 0.004
-DENSITY = 2600.0
+DENSITY = RHO_GRAIN
 MASS = 4.0 * math.pi / 3.0 * (0.5 * DIAMETER) ** 3 * DENSITY
 
 
@@ -306,7 +307,7 @@ def test_damped_oscillator_ranks_agree(tmp_path_factory, alpha):
 DECK_C = header() + """\
 timestep        1e-5
 create_atoms    1 single 0.0 0.0 0.0 units box
-set             atom 1 diameter 0.004 density 2600
+set             atom 1 diameter 0.004 density {rho:g}
 fix             integr all nve
 fix             damp all damp/local {args}
 run             1
@@ -328,13 +329,13 @@ run             1
 ], ids=["missing", "negative", "one", "one_float", "above_one", "nan", "non_numeric",
         "trailing_garbage", "unknown_keyword", "unknown_after_alpha", "missing_value"])
 def test_bad_input(tmp_path, args, expected):
-    res = harness.expect_error(DECK_C.format(args=args), tmp_path, expected, timeout=60)
+    res = harness.expect_error(DECK_C.format(args=args, rho=RHO_GRAIN), tmp_path, expected, timeout=60)
     (err,) = [e for e in res.errors if "damp/local" in e]
     assert "fix damp/local" in err
 
 
 def test_warning_when_force_fix_defined_after(tmp_path):
-    deck = DECK_C.format(args="alpha 0.05") + "fix late all addforce 1e-3 0.0 0.0\nrun 1\n"
+    deck = DECK_C.format(args="alpha 0.05", rho=RHO_GRAIN) + "fix late all addforce 1e-3 0.0 0.0\nrun 1\n"
     res = harness.run_deck(deck, tmp_path, timeout=60, check=True)
     assert any("fix 'late' (addforce) is defined after it" in w for w in res.warnings), \
         res.warnings

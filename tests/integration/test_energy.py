@@ -88,7 +88,7 @@ WINDOW = 20
 
 
 def _single_case():
-    case = sg.Stack("energy_n39", [39 * 0.21e-3], N=39, top=sg.T_STEEL, bottom=sg.T_OTHER,
+    case = sg.Stack("energy_n39", [39 * cd.D50], N=39, top=sg.T_STEEL, bottom=sg.T_OTHER,
                     speed=0.1, half=0.02, crush_extra=f"energy yes energy_window {WINDOW}",
                     pre_margin=400, post=40)
     return case

@@ -40,6 +40,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 from harness import REPO  # noqa: E402
 
+from crushpost.materials import RHO_GRAIN  # noqa: E402
 from crushpost.meshes import write_pile_stl  # noqa: E402
 import pile_cell  # noqa: E402
 
@@ -211,11 +212,11 @@ boundary        f f f
 """
 
 # one far-away grain: LIGGGHTS needs an atom type in use for a second run
-RESTART_BOX = """\
+RESTART_BOX = f"""\
 region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
 create_box      4 box
 create_atoms    1 single 0.015 0.015 0.19 units box
-set             atom 1 diameter 0.001 density 2600
+set             atom 1 diameter 0.001 density {RHO_GRAIN:g}
 """
 
 

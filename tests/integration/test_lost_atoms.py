@@ -35,6 +35,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import deck_lint  # noqa: E402
 import harness  # noqa: E402
+from crushpost.materials import RHO_GRAIN, SIGMA_LIM0  # noqa: E402
 from harness import REPO  # noqa: E402
 
 INPUTS = REPO / "inputs"
@@ -54,7 +55,7 @@ neighbor        0.001 bin
 neigh_modify    delay 0
 create_atoms    1 single 0.005 0.0 0.0 units box
 create_atoms    1 single 0.0 0.005 0.0 units box
-set             atom * diameter 0.002 density 2600
+set             atom * diameter 0.002 density {rho:g}
 velocity        all set 1.0 0.0 0.0 units box
 set             atom 2 vx 0.0
 {crush}fix             integ all nve
@@ -63,12 +64,12 @@ timestep        1e-6
 thermo          100
 run             8000
 """
-CRUSH = ("fix             crush all crush/particle sigma_lim0 1.9e9 m 10 d0 2e-3 scale 1 "
+CRUSH = (f"fix             crush all crush/particle sigma_lim0 {SIGMA_LIM0:g} m 10 d0 2e-3 scale 1 "
          "var 0.36 d_comm 1e-3 seed 15485863\n")
 
 
 def _escape_text(thermo="", crush=""):
-    return ESCAPE.format(inputs=INPUTS, thermo=thermo, crush=crush)
+    return ESCAPE.format(inputs=INPUTS, thermo=thermo, crush=crush, rho=RHO_GRAIN)
 
 
 def _escape(tmp_path, thermo="", lost_ok=False, crush="", extra_args=None):

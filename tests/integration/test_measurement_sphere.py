@@ -35,6 +35,7 @@ import pytest
 
 from harness import REPO, run_deck
 
+from crushpost.materials import RHO_GRAIN  # noqa: E402
 from crushpost.meshes import axis_plate_triangles, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
 from crushpost.spheres import measurement_sphere_block, read_sphere_series  # noqa: E402
@@ -96,7 +97,7 @@ def build(workdir):
     d = d[:n] * 0.75
     pos = rsa_box(d, [-L / 2] * 3, [L / 2] * 3, rng=rng)
     B = 0.7 * L
-    write_lammps_data(os.path.join(workdir, "grains.data"), pos, d, 2600.0,
+    write_lammps_data(os.path.join(workdir, "grains.data"), pos, d, RHO_GRAIN,
                       (-B, B, -B, B, -B, B), ntypes=4)
     plates = []
     for axis, name in enumerate("xyz"):

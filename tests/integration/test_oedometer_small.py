@@ -56,15 +56,16 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
+from crushpost.materials import D50 as D50_1, RHO_GRAIN  # noqa: E402
 from crushpost.oedometer import stress_path  # noqa: E402
 from crushpost.prep import core_area, core_volumes  # noqa: E402
 
 CTEST_TIMEOUT = 1900   # ctest's budget: the crushable and the unbreakable runs (RUN_TIMEOUT each)
 
 RUN_PY = harness.REPO / "examples" / "oedometer" / "run.py"
-RHO = 2600.0
+RHO = RHO_GRAIN
 N = 39.0
-D50 = 0.21e-3 * N
+D50 = D50_1 * N
 R_D50, H_D50 = 3.5, 6.0
 R_CELL, H_CELL = R_D50 * D50, H_D50 * D50
 A_CELL = math.pi * R_CELL ** 2

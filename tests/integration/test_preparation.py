@@ -39,11 +39,11 @@ chamber_servo.in.
    down to the floor n_target - n_tol without carrying 5 kPa however high
    the friction goes, docs/preparation.md): the deck stops as soon as the
    friction can no longer be raised by 2 % (the next raise, to the
-   geometric mean of the last too-low friction and 0.275, the one it first
+   geometric mean of the last too-low friction and mu_grain, the one it first
    jammed too loose at, would be smaller), not after n_expand_max cycles,
    with the reason in the error; the core is at the floor n_target - n_tol
    (0.40 - 0.005 = 0.395, within 2e-4). (Without the early stop it ran all 150 cycles, raising the
-   friction by ever smaller steps towards 0.275: 42 s against about 20 s.)
+   friction by ever smaller steps towards mu_grain: 42 s against about 20 s.)
 
 Run time: test 1 took 14 min 18 s on the 2 shared cores with a load
 average of 9 to 13 from other jobs (2026-12-06: phase B ended after 60
@@ -63,11 +63,12 @@ import pytest
 import harness
 
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
+from crushpost.materials import D50 as D50_1, MU_GRAIN  # noqa: E402
 from crushpost.prep import prep_time_step, read_prep_report, sample_porosities  # noqa: E402
 from crushpost.snapshot import list_snapshots, read_snapshot  # noqa: E402
 
 N = 39
-D50 = 0.21e-3 * N
+D50 = D50_1 * N
 R_PILE = 0.018
 # docs/model.md §4.1: NE34 at Dr 72 %; the decks' default n_target and n_tol
 # (inputs/prepare_expand.in) must prepare this.
@@ -220,13 +221,13 @@ def test_packing_that_cannot_reach_the_target_stops_early(tmp_path):
     assert abs(n_core - 0.395) < 2e-4
     # the stop came when the next raise, to the geometric mean of the last
     # too-low friction and the one it first jammed too loose at (mu_prep,
-    # 0.275), would be under 2 %; the raise before it was not
+    # mu_grain), would be under 2 %; the raise before it was not
     raised = [(float(a), float(b.rstrip(","))) for a, b in re.findall(
         r"friction ([0-9.eE+-]+) too low, raised to ([0-9.eE+-]+)", log)]
     assert raised and raised[-1][1] / raised[-1][0] >= 1.02
     mu_stuck = float(re.search(r"without s_prep at friction ([0-9.eE+-]+):", log).group(1))
     assert mu_stuck == pytest.approx(raised[-1][1], rel=1e-12)
-    assert math.sqrt(mu_stuck * 0.275) / mu_stuck < 1.02
+    assert math.sqrt(mu_stuck * MU_GRAIN) / mu_stuck < 1.02
 
 
 def test_packing_that_settles_below_the_target_stops_early(tmp_path):

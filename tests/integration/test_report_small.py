@@ -61,7 +61,7 @@ R_PILE = 0.006
 N_SEG = 16
 SHAFT_LENGTH = 0.06
 N_SCALE = 39
-# weak grains (sigma_lim0 8e7 Pa instead of 1.9e9): a few break when the fix
+# weak grains (sigma_lim0 8e7 Pa instead of the calibrated 1.9 GPa): a few break when the fix
 # starts, about ten more while the cone goes in (5e7: the cell collapses)
 SIGMA_LIM0 = 8e7
 # strokes of 7 mm: the cone meets the grains after about 4.5 mm (the weakest

@@ -11,10 +11,11 @@ import numpy as np
 import pytest
 
 import crush_multi as cm
+from crushpost.materials import E_GRAIN, MU_GRAIN, RHO_GRAIN
 from harness import run_deck
 
 G = 9.81
-MU = 0.275
+MU = MU_GRAIN
 R = 0.5e-3
 
 DECK = "\n" + cm.preamble() + """region box block -0.05 0.05 -0.01 0.01 -0.001 0.01
@@ -22,7 +23,7 @@ create_box 2 box
 neighbor 0.0002 bin
 neigh_modify delay 0
 thermo_modify lost error
-fix m1 all property/global youngsModulus peratomtype 21.6e9 21.6e9
+fix m1 all property/global youngsModulus peratomtype """ + f"{E_GRAIN!r} {E_GRAIN!r}" + """
 fix m2 all property/global poissonsRatio peratomtype 0.2 0.2
 fix m3 all property/global coefficientRestitution peratomtypepair 2 0.1 0.1 0.1 0.1
 fix m4 all property/global coefficientFriction peratomtypepair 2 {mu} {mu} {mu} {mu}
@@ -30,7 +31,7 @@ pair_style gran model hertz tangential history
 pair_coeff * *
 timestep 2e-7
 create_atoms 1 single {x0} 0 {r} units box
-set atom 1 diameter {d} density 2600
+set atom 1 diameter {d} density """ + "%g" % RHO_GRAIN + """
 fix plane all wall/gran model hertz tangential history primitive type 2 zplane 0.0
 fix integ all {integrator}
 # settle on the plane under normal gravity, then tilt gravity by theta

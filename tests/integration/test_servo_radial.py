@@ -46,6 +46,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 
+from crushpost.materials import RHO_GRAIN  # noqa: E402
 from crushpost.meshes import cylinder_triangles, plate_triangles, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, write_lammps_data  # noqa: E402
 
@@ -57,7 +58,7 @@ SOLID_FRACTION0 = 0.28     # loose random sequential addition
 AXIS = (0.006, -0.004)     # chamber axis, off the box centre
 N_SEG = 48
 PACKING_SEED = 7
-RHO = 2600.0
+RHO = RHO_GRAIN
 
 T1, K1, VMAX1 = 76e3, 1e-5, 1.0      # target (Pa), gain (m/s per Pa), vmax (m/s)
 STEPS1 = 26000                       # 1. preparation
@@ -274,7 +275,7 @@ boundary {boundary}
 region box block -0.05 0.05 -0.05 0.05 -0.01 0.06 units box
 create_box 4 box
 create_atoms 1 single 0.006 -0.004 0.02 units box
-set atom 1 diameter 0.008 density 2600
+set atom 1 diameter 0.008 density """ + "%g" % RHO_GRAIN + """
 include ${{inputs}}/materials_ne34.in
 neighbor 0.002 bin
 neigh_modify delay 0

@@ -52,6 +52,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import harness  # noqa: E402
 from harness import REPO  # noqa: E402
 
+from crushpost.materials import MU_GRAIN, NU_GRAIN, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import write_pile_stl  # noqa: E402
 import pile_cell  # noqa: E402
 from pile_cell import G_GRAIN, RHO  # noqa: E402
@@ -66,8 +67,6 @@ R_CELL = 0.03
 H_PACK = 0.035
 H_RSA = 0.075
 DT = 2e-6
-NU_GRAIN, G_STEEL, NU_STEEL = 0.2, 85e9, 0.2
-MU_GRAIN, MU_PILE = 0.275, 0.5
 SETTLE_STEPS = 15000
 R_PILE = 0.006
 N_SEG = 16
@@ -508,7 +507,7 @@ def test_no_contacts_and_unfix(tmp_path):
     # style and the wall fix, and later runs go on
     write_pile_stl(str(tmp_path), 0.004, 0.05, tip_z=0.1, n_seg=8)
     one_grain = ("create_atoms 1 single 0.015 0.015 0.19 units box\n"
-                 "set atom 1 diameter 0.001 density 2600")
+                 f"set atom 1 diameter 0.001 density {RHO_GRAIN:g}")
     deck = ERROR_DECK.format(inputs=INPUTS, before=one_grain, after="", args=(
         "file s trigger v_s contacts yes")).replace("run             5\n", """\
 run             5
@@ -539,7 +538,7 @@ boundary        f f f
 region          box block -0.02 0.02 -0.02 0.02 0.0 0.2 units box
 create_box      4 box
 create_atoms    1 single 0.015 0.015 0.19 units box
-set             atom 1 diameter 0.001 density 2600
+set             atom 1 diameter 0.001 density {rho:g}
 include         ${{inputs}}/materials_ne34.in
 neighbor        0.002 bin
 timestep        1e-5
@@ -573,7 +572,7 @@ def test_contacts_after_read_restart(tmp_path):
     # a deck continued from a restart file may create the contact computes
     # before its first run (LIGGGHTS' own rule, which the fix follows)
     write_pile_stl(str(tmp_path), 0.004, 0.05, tip_z=0.1, n_seg=8)
-    harness.run_deck(RESTART_A.format(inputs=INPUTS, walls=WALLS), tmp_path, timeout=60,
+    harness.run_deck(RESTART_A.format(inputs=INPUTS, walls=WALLS, rho=RHO_GRAIN), tmp_path, timeout=60,
                      check=True)
     harness.run_deck(RESTART_B.format(inputs=INPUTS, walls=WALLS), tmp_path, timeout=60,
                      check=True)

@@ -100,7 +100,7 @@ def rayleigh_warnings(res):
 DT = 0.18 * cd.rayleigh_time(r_frag())
 
 
-@pytest.mark.parametrize("sigma0,flagged", [(1.9e9, False), (2e10, True)], ids=["ne34", "strong"])
+@pytest.mark.parametrize("sigma0,flagged", [(cd.SIGMA0, False), (2e10, True)], ids=["ne34", "strong"])
 def test_init_check_fragment_steel(tmp_path, sigma0, flagged):
     """sigma_lim0 20 GPa: the Rayleigh check and the grain's own contacts pass,
     the smallest fragment against steel does not (omega dt 1.21 > 1): one

@@ -36,10 +36,9 @@ from scipy import optimize, stats
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import crush_multi as cm  # noqa: E402
 import harness  # noqa: E402
+from crushpost.materials import D0, E_GRAIN, MU_GRAIN, RHO_GRAIN, VAR  # noqa: E402
+from crushpost.materials import SIGMA_LIM0 as SIGMA0  # noqa: E402
 
-SIGMA0 = 1.9e9
-D0 = 0.002
-VAR = 0.36
 SEED = 15485863
 SEED2 = 32452843                     # another prime > 10000
 PITCH = 0.003
@@ -57,7 +56,7 @@ def _groups():
             lines.append(f"group g{k} id <> {lo} {lo + BLOCK - 1}")
         else:
             lines.append(f"group g{k} id >= {lo}")
-        lines.append(f"set group g{k} diameter {d!r} density 2600")
+        lines.append(f"set group g{k} diameter {d!r} density {RHO_GRAIN:g}")
     return "\n".join(lines)
 
 
@@ -69,10 +68,10 @@ lattice         sc {PITCH!r}
 create_atoms    1 box
 neighbor        1e-4 bin
 neigh_modify    delay 0
-fix m1 all property/global youngsModulus peratomtype 21.6e9
+fix m1 all property/global youngsModulus peratomtype {E_GRAIN!r}
 fix m2 all property/global poissonsRatio peratomtype 0.2
 fix m3 all property/global coefficientRestitution peratomtypepair 1 0.5
-fix m4 all property/global coefficientFriction peratomtypepair 1 0.275
+fix m4 all property/global coefficientFriction peratomtypepair 1 {MU_GRAIN:g}
 pair_style      gran model hertz tangential history
 pair_coeff      * *
 {_groups()}

@@ -46,14 +46,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import crush_decks as cd  # noqa: E402
 import harness  # noqa: E402
 
+from crushpost.materials import E_STEEL, NU_STEEL, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import axis_plate_triangles, plate_triangles, write_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
 
 INPUTS = harness.REPO / "inputs"
 N = 39
 D50 = D50_NE34 * N
-E_STEEL_NE34 = 2.0 * 85e9 * (1.0 + 0.2)     # materials_ne34.in: G_steel 85 GPa, nu 0.2
-E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_STEEL_NE34, 0.2)
+E_STEEL_NE34 = E_STEEL                       # materials_ne34.in: G_steel 85 GPa, nu 0.2
+E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_STEEL_NE34, NU_STEEL)
 STRESS_COLS = " ".join("c_sigma_p[%d]" % k for k in range(1, 10))
 DUMP_FMT = "%d" + " %.17g" * 16
 
@@ -126,8 +127,8 @@ def run_stack(wd, radii):
     z_top = 2 * sum(radii) - PRESS
     write_stl(wd / "top.stl", plate_triangles(0.015, z_top), "top")
     atoms = "".join("create_atoms 1 single {x!r} {y!r} {z!r} units box\n"
-                    "set atom {k} diameter {d!r} density 2600\n"
-                    .format(x=X1, y=Y1, z=zk, k=k + 1, d=2 * rk)
+                    "set atom {k} diameter {d!r} density {rho:g}\n"
+                    .format(x=X1, y=Y1, z=zk, k=k + 1, d=2 * rk, rho=RHO_GRAIN)
                     for k, (rk, zk) in enumerate(zip(radii, z)))
     deck = SINGLE.format(inputs=INPUTS, dt=DT1, atoms=atoms, ztop=z_top, v=-V_PLATE,
                          every=EVERY1, cols=STRESS_COLS, fmt=DUMP_FMT, steps=STEPS1)
@@ -270,7 +271,7 @@ def box_data(tmp_path_factory):
     d = d[:n] * 0.8
     pos = rsa_box(d, [-L / 2] * 3, [L / 2] * 3, rng=rng)
     B = 0.7 * L
-    write_lammps_data(wd / "grains.data", pos, d, 2600.0, (-B, B, -B, B, -B, B), ntypes=4)
+    write_lammps_data(wd / "grains.data", pos, d, RHO_GRAIN, (-B, B, -B, B, -B, B), ntypes=4)
     deck = PREP.format(inputs=INPUTS, dt=DT, plates=plates_text(wd), g=1.25 ** (1.0 / 150))
     cd.run(deck, wd, nprocs=1, timeout=300)
     return wd / "box.data", n

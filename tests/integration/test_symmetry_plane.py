@@ -25,7 +25,7 @@ curve is); the plane's force is the Hertz force of the rigid plane at the
 dumped overlap; the break happens at the same step with the same F_n and
 F_lim, equal to the analytic F_lim, on the plane and on the mirror contact.
 
-With the old plane material (the grain's, type 3: -var E_rigid 21.6e9, or the
+With the old plane material (the grain's, type 3: -var E_rigid of the grain's E, or the
 old primitive type-3 planes) the plane pushes with half the force at the same
 overlap and the limit force is 4 times higher: this test fails.
 """
@@ -41,15 +41,16 @@ import crush_decks as cd  # noqa: E402
 import harness  # noqa: E402
 
 from crushpost.chamber import symmetry_planes  # noqa: E402
+from crushpost.materials import E_STEEL, NU_STEEL, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import rectangle_triangles, write_stl  # noqa: E402
 
 N = 39
-D = 39 * 0.21e-3              # the grain: 39 d50 at N = 39 = d50 of the chamber
+D = 39 * cd.D50               # the grain: 39 d50 at N = 39 = d50 of the chamber
 R = 0.5 * D
 SIGMA = cd.strength(D, N)     # var 0: f = 1
 E_STAR_RIGID = cd.E_GRAIN / (1.0 - cd.NU_GRAIN ** 2)
-E_STEEL_NE34 = 2.0 * 85e9 * (1.0 + 0.2)     # materials_ne34.in: G_steel 85 GPa, nu 0.2
-E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_STEEL_NE34, 0.2)
+E_STEEL_NE34 = E_STEEL                       # materials_ne34.in: G_steel 85 GPa, nu 0.2
+E_STAR_STEEL = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, E_STEEL_NE34, NU_STEEL)
 F_LIM = cd.limit_force(SIGMA, R, E_STAR_RIGID)
 SPEED = 0.5                   # platen speed, m/s
 DT = 2e-7                     # 0.03 Rayleigh times of the grain
@@ -88,7 +89,7 @@ fix walls all wall/gran model hertz tangential history mesh n_meshes $({n_platen
     meshes {platen_ids} ${{sym_meshes}}
 {moves}
 fix integrate all nve
-fix crush all crush/particle sigma_lim0 1.9e9 m 10 d0 2e-3 scale {N} var 0 &
+fix crush all crush/particle sigma_lim0 {sigma0:g} m 10 d0 2e-3 scale {N} var 0 &
     d_comm {d_comm!r} seed 15485863 events events.txt
 variable y1 equal y[1]
 variable fy1 equal fy[1]
@@ -118,15 +119,15 @@ def platen_stl(path, y, sign):
 
 def build(tmp, mirror):
     y_top = D + GAP                    # platen above the grain centred at y = r
-    atoms = ("create_atoms 1 single {x} {y} {z} units box\nset atom 1 diameter {d} density 2600\n"
-             .format(x=X0, y=R, z=Z0, d=D))
+    atoms = ("create_atoms 1 single {x} {y} {z} units box\nset atom 1 diameter {d} density {rho:g}\n"
+             .format(x=X0, y=R, z=Z0, d=D, rho=RHO_GRAIN))
     platens = "fix top all mesh/surface/stress file top.stl type 2\n"
     moves = "fix mv_top all move/mesh mesh top linear 0 {v} 0\n".format(v=-SPEED)
     ids, extra = "top", "f_sym_y[2]"
     platen_stl(tmp / "top.stl", y_top, -1)
     if mirror:
         atoms += ("create_atoms 1 single {x} {y} {z} units box\n"
-                  "set atom 2 diameter {d} density 2600\n").format(x=X0, y=-R, z=Z0, d=D)
+                  "set atom 2 diameter {d} density {rho:g}\n").format(x=X0, y=-R, z=Z0, d=D, rho=RHO_GRAIN)
         platens += "fix bot all mesh/surface/stress file bot.stl type 2\n"
         moves += "fix mv_bot all move/mesh mesh bot linear 0 {v} 0\n".format(v=SPEED)
         atoms += "variable y2 equal y[2]\n"
@@ -139,7 +140,7 @@ def build(tmp, mirror):
     return DECK.format(inputs=harness.REPO / "inputs", sector=360 if mirror else 180,
                        h=HALF, dt=DT, atoms=atoms, platens=platens,
                        n_platens=len(ids.split()), platen_ids=ids, moves=moves, N=N,
-                       d_comm=0.55 * D, extra=extra, every=EVERY, steps=N_STEPS)
+                       d_comm=0.55 * D, extra=extra, every=EVERY, steps=N_STEPS, sigma0=cd.SIGMA0)
 
 
 @pytest.fixture(scope="module")

@@ -20,10 +20,11 @@ import math
 import pytest
 
 import crush_multi as cm
+from crushpost.materials import E_GRAIN, NU_GRAIN, RHO_GRAIN
 from harness import expect_error, run_deck
 
-E = 21.6e9
-NU = 0.2
+E = E_GRAIN
+NU = NU_GRAIN
 MU = 0.5
 R = 1e-3
 DELTA1 = 2e-6
@@ -63,7 +64,7 @@ timestep {dt!r}
 """
 
 DECK = _HEADER.replace("{{zlo}}", "-0.001") + """create_atoms 1 single {x0!r} 0 {z0!r} units box
-set atom 1 diameter {d!r} density 2600
+set atom 1 diameter {d!r} density """ + "%g" % RHO_GRAIN + """
 fix plane all wall/gran model hertz tangential {tm} primitive type 1 zplane 0.0
 variable fx equal fx[1]
 variable fz equal fz[1]
@@ -150,7 +151,7 @@ PAIR_DECK = _HEADER.replace("{{zlo}}", "-0.01") + """# the contact straddles the
 # grains are on different ranks
 create_atoms 1 single {xa!r} 0 0 units box
 create_atoms 1 single {xb!r} 0 0 units box
-set atom * diameter {d!r} density 2600
+set atom * diameter {d!r} density """ + "%g" % RHO_GRAIN + """
 group mover id 2
 variable fx equal fx[2]
 variable fy equal fy[2]

@@ -7,8 +7,9 @@ from scipy.integrate import quad
 
 from crushpost.breakage import (breakage, breakage_index, fractal_grading_integral,
                                 fractal_psd, grading_integral, psd_curve, sphere_mass)
+from crushpost.materials import D50, D_COMM_RATIO, D_MAX_BR, D_MIN_BR, RHO_GRAIN
 
-D_MIN, D_MAX = 0.01e-3, 0.27e-3
+D_MIN, D_MAX = D_MIN_BR, D_MAX_BR
 
 
 def F_reference(d, dp, mp, mf):
@@ -27,7 +28,7 @@ def test_psd_curve_hand_values():
 def test_unchanged_grading_gives_zero():
     rng = np.random.default_rng(1)
     d = rng.uniform(0.15e-3, 0.27e-3, 500)
-    m = sphere_mass(d, 2600.0)
+    m = sphere_mass(d, RHO_GRAIN)
     res = breakage(d, m, d, m, D_MIN, D_MAX)
     assert res.B_t == 0.0 and res.Br == 0.0
     assert res.B_p > 0
@@ -120,8 +121,8 @@ def test_apollonian_fragments_and_errors():
     r = 0.1e-3
     r1, r2 = r / (1 + np.sqrt(2)), 0.230093 * r
     frag_d = np.array([2 * r1] * 6 + [2 * r2] * 8)
-    frag_m = sphere_mass(frag_d, 2600.0)
-    parent = sphere_mass(2 * r, 2600.0)
+    frag_m = sphere_mass(frag_d, RHO_GRAIN)
+    parent = sphere_mass(2 * r, RHO_GRAIN)
     assert frag_m.sum() / parent == pytest.approx(0.5239, abs=2e-4)
     fines = parent - frag_m.sum()
     res = breakage(frag_d, frag_m, [2 * r], [parent], D_MIN, D_MAX, m_fines=fines)
@@ -142,7 +143,7 @@ from crushpost.breakage import (N_BINS, R1_RATIO, R2_RATIO, BreakFines,  # noqa:
                                 bin_integrals, bounded_breakage_index, break_fines,
                                 limit_bin_integrals)
 
-RHO = 2600.0
+RHO = RHO_GRAIN
 
 
 def F_direct(x, d, m, lost, d_top, dropped_d, dropped_m, w, fractal=True):
@@ -278,8 +279,8 @@ def test_limit_bins_and_br_endpoints():
 
 
 @pytest.mark.parametrize("fractal", [True, False])
-@pytest.mark.parametrize("d_comm,d_frag_min", [(0.55 * 0.21e-3, 0.0), (0.0, 0.03e-3),
-                                               (0.55 * 0.21e-3, 0.03e-3)])
+@pytest.mark.parametrize("d_comm,d_frag_min", [(D_COMM_RATIO * D50, 0.0), (0.0, 0.03e-3),
+                                               (D_COMM_RATIO * D50, 0.03e-3)])
 def test_br_bounded_for_random_histories(fractal, d_comm, d_frag_min):
     grading = "fractal" if fractal else "d_min"
     U = limit_bin_integrals(D_MIN, D_MAX)
@@ -335,7 +336,7 @@ def test_bound_when_every_grain_broke_once():
 
 
 def test_fractal_fines_give_smaller_br_than_fines_at_d_min():
-    for d, m, fines in _history(8, True, 0.55 * 0.21e-3, 0.0, 40):
+    for d, m, fines in _history(8, True, D_COMM_RATIO * D50, 0.0, 40):
         d0, m0 = _initial(8)
         a = breakage(d, m, d0, m0, D_MIN, D_MAX, fines=fines)
         b = breakage(d, m, d0, m0, D_MIN, D_MAX, fines=fines, fines_grading="d_min")

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from crushpost.cli import main
+from crushpost.materials import D_MAX_BR, D_MIN_BR, RHO_GRAIN
 
 
 
@@ -34,7 +35,7 @@ def test_br_one_parent_crushed(tmp_path, capsys):
     events = tmp_path / "events.txt"
     events.write_text("# step time parent_tag parent_diameter x y z F_n F_lim partner generation\n"
                       "500 1e-4 4 %.17g 0.5 0.5 0.5 1.0 0.9 particle 0\n" % (2 * r))
-    d_min, d_max, d = 0.01e-3, 0.27e-3, 2 * r
+    d_min, d_max, d = D_MIN_BR, D_MAX_BR, 2 * r
     vp, v1, v2 = r ** 3, r1 ** 3, r2 ** 3  # masses in units of rho pi/6 * 8
     fines = vp - 6 * v1 - 8 * v2
     L = np.log(d_max / d_min)
@@ -57,13 +58,13 @@ def test_br_one_parent_crushed(tmp_path, capsys):
     assert out["fines_grading"] == "fractal"
     assert out["Br_einav"] == pytest.approx((i_fr - i0) / (iu - i0), rel=1e-6)  # r2 to 6 digits
     assert 0 < out["Br"] <= out["Br_einav"]
-    assert out["fines_mass"] == pytest.approx(2600 * np.pi / 6 * 8 * fines, rel=1e-5)
+    assert out["fines_mass"] == pytest.approx(RHO_GRAIN * np.pi / 6 * 8 * fines, rel=1e-5)
     assert out["timestep"] == 500 and out["initial_timestep"] == 0
     # the former convention, fines inferred from the mass deficit
     assert main(["br", str(path), "--fines-grading", "d_min", "--json"]) == 0
     old = json.loads(capsys.readouterr().out)
     assert old["Br_einav"] == pytest.approx((i_dmin - i0) / (iu - i0), rel=1e-10)
-    assert old["fines_mass"] == pytest.approx(2600 * np.pi / 6 * 8 * fines, rel=1e-9)
+    assert old["fines_mass"] == pytest.approx(RHO_GRAIN * np.pi / 6 * 8 * fines, rel=1e-9)
     assert 0 < out["Br"] < old["Br"] <= old["Br_einav"]
     # fractal without the event log: the fines have no size, an error
     assert main(["br", str(path)]) == 1

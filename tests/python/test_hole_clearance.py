@@ -13,6 +13,7 @@ import pytest
 
 from crushpost.chamber import (SMALL_FRAGMENT_RATIO, hole_gap, hole_radius,
                                smallest_fragment_diameter, write_chamber)
+from crushpost.materials import D50, D_COMM_RATIO
 from crushpost.meshes import read_stl
 
 N = 39
@@ -68,7 +69,7 @@ def test_hole_gap_is_smaller_than_the_smallest_fragment(tmp_path, sector):
                             np.radians(np.arange(0.0, sector + 1e-9, 3.75))])
     gap = _ray_distance(theta, hole) - _ray_distance(theta, shaft)
     assert np.all(np.isfinite(gap))
-    d_frag = SMALL_FRAGMENT_RATIO * 0.55 * 0.21e-3 * N        # 1.036 mm
+    d_frag = SMALL_FRAGMENT_RATIO * D_COMM_RATIO * D50 * N        # 1.036 mm
     assert d_frag == pytest.approx(1.0365e-3, rel=1e-4)
     # narrower than the smallest fragment with a wide margin (grains overlap
     # walls by far less than half their size)

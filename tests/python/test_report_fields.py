@@ -12,6 +12,7 @@ from crushpost.breakage import breakage, sphere_mass
 from crushpost.fields import (binned_mean, cell_breakage, event_density, interp_columns,
                               interp_radius,
                               qc_reference, qc_trend_band, radial_increments, stress_quantities)
+from crushpost.materials import D_MAX_BR, D_MIN_BR, RHO_GRAIN
 from crushpost.rings import (cylinder_below_volume, ring_fields,
                              ring_volumes, sphere_cell_volumes)
 from crushpost.rotation import axis_rotation, major_axis_angle, unwrap_axis
@@ -277,7 +278,7 @@ def test_binned_mean():
 def test_cell_breakage_equals_breakage_of_each_cell():
     rng = np.random.default_rng(9)
     N = 39.0
-    d_min, d_max = 0.01e-3 * N, 0.27e-3 * N
+    d_min, d_max = D_MIN_BR * N, D_MAX_BR * N
     d0 = rng.uniform(0.15e-3, 0.26e-3, 900) * N
     cell0 = rng.integers(0, 3, 900)
     # current: some grains broke into the smallest-fragment size, moved cells
@@ -292,8 +293,8 @@ def test_cell_breakage_equals_breakage_of_each_cell():
     from crushpost.breakage import break_fines
     for c in range(3):
         sel, sel0, se = cell == c, cell0 == c, ev_cell == c
-        ref = breakage(d[sel], sphere_mass(d[sel], 2600.0), d0[sel0], sphere_mass(d0[sel0], 2600.0),
-                       d_min, d_max, fines=break_fines(ev_d[se], density=2600.0))
+        ref = breakage(d[sel], sphere_mass(d[sel], RHO_GRAIN), d0[sel0], sphere_mass(d0[sel0], RHO_GRAIN),
+                       d_min, d_max, fines=break_fines(ev_d[se], density=RHO_GRAIN))
         assert br[c] == pytest.approx(ref.Br, rel=1e-10, abs=1e-13)
     # the initial state is Br = 0
     br0, _, _ = cell_breakage(cell0, d0, cell0, d0, 3, d_min, d_max)

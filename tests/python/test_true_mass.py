@@ -17,9 +17,10 @@ import pytest
 
 from crushpost.cli import main
 from crushpost.dump import true_mass
+from crushpost.materials import RHO_GRAIN
 from crushpost.oedometer import psd_snapshots
 
-RHO = 2600.0
+RHO = RHO_GRAIN
 R = 0.1e-3
 R1, R2 = R / (1 + np.sqrt(2)), 0.230093 * R
 D_REF = 2 * R
