@@ -40,6 +40,7 @@ import harness  # noqa: E402
 
 import pile_cell  # noqa: E402
 from crushpost import paraview_state  # noqa: E402
+from crushpost.materials import D50  # noqa: E402
 from crushpost.dump import read_crush_log  # noqa: E402
 from crushpost.fields import cell_breakage  # noqa: E402
 from crushpost.meshes import (cylinder_triangles, plate_triangles, read_stl,  # noqa: E402
@@ -103,7 +104,7 @@ fix             walls all wall/gran model hertz tangential history mesh n_meshes
                 meshes bottom side cone shaft
 include         ${{inputs}}/contacts_local.in
 variable        N equal {N_SCALE}
-variable        d50 equal 0.21e-3*${{N}}
+variable        d50 equal {D50!r}*${{N}}
 fix             crush all crush/particle sigma_lim0 {SIGMA_LIM0!r} m 10 d0 2e-3 scale ${{N}} &
                 var 0.36 d_comm $(0.55*v_d50) seed 15485863 br d_max $(0.27e-3*v_N) &
                 d_min $(0.01e-3*v_N) omega 2.6 events breakage_events.txt

@@ -96,7 +96,7 @@ def test_fine_fractal_discretisation_gives_br_one():
 
 def test_fines_count_below_d_min():
     # All mass at d0; a fraction x turns into fines: B_t = x ln(d0/d_min).
-    d0, x = 0.21e-3, 0.3
+    d0, x = D50, 0.3
     res = breakage([d0], [1.0 - x], [d0], [1.0], D_MIN, D_MAX, m_fines=x)
     assert res.B_t == pytest.approx(x * np.log(d0 / D_MIN), rel=1e-13)
     # Same as putting that mass in particles at (or below) d_min.
@@ -217,7 +217,7 @@ def test_bin_integrals_match_quadrature(w, fractal):
     rng = np.random.default_rng(3)
     d = np.exp(rng.uniform(np.log(D_MIN / 3), np.log(3 * D_MAX), 60))
     m = rng.uniform(0.2, 1.0, 60) * 1e-9
-    fines = break_fines([0.21e-3, 0.1e-3, 0.03e-3, 0.02e-3], density=RHO, d_frag_min=0.012e-3)
+    fines = break_fines([D50, 0.1e-3, 0.03e-3, 0.02e-3], density=RHO, d_frag_min=0.012e-3)
     J, M = bin_integrals(d, m, D_MIN, D_MAX, fines, "fractal" if fractal else "d_min", w)
     assert M == pytest.approx(m.sum() + fines.total, rel=1e-15)
     edges = np.log(D_MIN) + np.arange(N_BINS + 1) * np.log(D_MAX / D_MIN) / N_BINS

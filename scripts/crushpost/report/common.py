@@ -11,11 +11,12 @@ import numpy as np
 
 from ..formats import fields_h5_check
 from ..inputfile import InputFileError
+from ..materials import D_MAX_BR, D_MIN_BR, RHO_GRAIN
 
 #: Calibrated NE34 Br range at real size (docs/model.md §3) [m]; scaled by N.
-D_MIN_REAL = 0.01e-3
-D_MAX_REAL = 0.27e-3
-RHO = 2600.0
+D_MIN_REAL = D_MIN_BR
+D_MAX_REAL = D_MAX_BR
+RHO = RHO_GRAIN
 #: kinds of the states (snapshots) in fields.h5 /states/kind
 STATE_KINDS = ("initial", "push_end", "pause_end", "other")
 COMPONENTS = ("sigma_r", "sigma_theta", "sigma_z")
