@@ -4,6 +4,12 @@
    the fix itself: construction, the hooks LIGGGHTS calls in a time step
    and the order in which they use the parts, each in its own file (the map
    is in fix_crush_particle.h). The model math lives in crush_*_kernel.h.
+
+   One step: end_of_step -> detect (the contact scan of
+   fix_crush_particle_screening.cpp finds the candidates and starts their
+   count over ranks) -> post_integrate of the next step collects the count
+   -> pre_exchange -> break_particles (fix_crush_particle_break.cpp), on
+   the neighbour-list build that count asked for.
    Exercised by every crush test in tests/integration (test_crush_*.py).
 ------------------------------------------------------------------------- */
 
@@ -129,7 +135,6 @@ int FixCrushParticle::setmask()
 
 /* ---------------------------------------------------------------------- */
 
-
 void FixCrushParticle::init()
 {
   if (force->newton_pair)
@@ -153,7 +158,6 @@ void FixCrushParticle::init()
   cache_step_ = -1;
   full_scan_pending_ = true;
 }
-
 
 void FixCrushParticle::setup_pre_neighbor()
 {
@@ -191,7 +195,6 @@ void FixCrushParticle::setup(int)
   detect(true);
   cache_step_ = -1;
 }
-
 
 void FixCrushParticle::end_of_step()
 {
@@ -251,7 +254,6 @@ void FixCrushParticle::pre_exchange()
   next_reneighbor = -1;
   cache_step_ = -1;
 }
-
 
 // Simulation time, continuous across restart files.
 double FixCrushParticle::current_time() const

@@ -5,8 +5,8 @@
    their own, because the contact scan calls them for every pair
    (fix_crush_particle_screening.cpp) and the criterion's other users
    (fix_crush_particle_criterion.cpp, fix_crush_particle_timestep.cpp)
-   need the same definitions. Include after fix_crush_particle.h, from the
-   fix's .cpp files only. The formulas: crush_breakage_kernel.h (limit_force, limit_overlap) and
+   need the same definitions. Included by the fix's .cpp files only. The
+   formulas: crush_breakage_kernel.h (limit_force, limit_overlap) and
    crush_criterion_kernel.h (the reading's factors).
 ------------------------------------------------------------------------- */
 
@@ -35,7 +35,8 @@ inline double FixCrushParticle::F_lim(int i, double R_star, int ti, int tj) cons
 
 inline double FixCrushParticle::delta_lim(int i, double R_star, int ti, int tj) const
 {
-  return CrushKernels::limit_overlap(crush_[i][0], R_star, E_star(ti, tj)) * CrushKernels::limit_overlap_factor(limit_factor(ti, tj));
+  return CrushKernels::limit_overlap(crush_[i][0], R_star, E_star(ti, tj)) *
+         CrushKernels::limit_overlap_factor(limit_factor(ti, tj));
 }
 
 }  // namespace LAMMPS_NS
