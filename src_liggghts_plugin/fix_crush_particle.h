@@ -211,6 +211,7 @@ class FixCrushParticle : public Fix {
   // fragments over the window; largest fragment speed
   double energy_sums_[5];
   std::vector<std::vector<double> > event_lines_;  // rank 0: records awaiting their window
+  // the energy hooks (fix_crush_particle_energy.cpp)
   void energy_of_breaks(const std::vector<int> &parents, const std::vector<std::pair<int, int> > &order,
                         const std::vector<int> &first_tag, std::vector<double> *records);
   void energy_observe();
@@ -245,6 +246,7 @@ class FixCrushParticle : public Fix {
   void write_event_line(const double *e, const double *extra);
   // time-step checks (fix_crush_particle_timestep.cpp)
   void check_timestep();
+  // simulation time, continuous across restart files (fix_crush_particle.cpp)
   double current_time() const;
 };
 
