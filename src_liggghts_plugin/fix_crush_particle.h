@@ -6,6 +6,29 @@
    a broken grain by 14 Apollonian fragments, comminution limit, fines mass
    accounting and the Einav breakage index.
    Doc: docs/fix_crush_particle.md
+
+   Where the code is: one class, its member functions in one file per topic
+   (the header-only kernels crush_*_kernel.h hold the model's formulas; the
+   fix calls them, never the reverse):
+     fix_crush_particle.cpp            the fix: constructor, init, setup and
+                                       the time-step hooks, in the order they
+                                       use the parts below (detect, pre_exchange)
+     fix_crush_particle_args.cpp       the keywords (parse_args)
+     fix_crush_particle_criterion.h    the limit of a contact: eligible, F_lim,
+                                       delta_lim (inline, used by the scan)
+     fix_crush_particle_criterion.cpp  strengths (assign_strength), the material
+                                       table and reading (init_criterion),
+                                       utilisation for compute crush/atom
+     fix_crush_particle_screening.cpp  which contacts reached their limit:
+                                       pair and wall scans, margin_skip, consider
+     fix_crush_particle_break.cpp      fragments (break_particles), density
+                                       scaling, true_mass
+     fix_crush_particle_accounting.cpp mass, fines, Br (f_ID[1..15]), the atom
+                                       count that stops a run losing grains
+     fix_crush_particle_events.cpp     the event log (columns: crush_event_log_kernel.h)
+     fix_crush_particle_energy.cpp     the energy hooks (CrushEnergy does the sums)
+     fix_crush_particle_restart.cpp    restart files, per-atom arrays
+     fix_crush_particle_timestep.cpp   the time-step checks (check_timestep)
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
@@ -107,6 +130,7 @@ class FixCrushParticle : public Fix {
   std::vector<double> limit_factor_;  // k per type pair (1: printed reading)
   double limit_factor(int ti, int tj) const { return limit_factor_[(ti - 1) * ntypes_mat_ + (tj - 1)]; }
   // F_lim and the limit overlap of particle i on a contact of types (ti, tj)
+  // (inline: fix_crush_particle_criterion.h)
   double F_lim(int i, double R_star, int ti, int tj) const;
   double delta_lim(int i, double R_star, int ti, int tj) const;
 
@@ -187,30 +211,43 @@ class FixCrushParticle : public Fix {
   // fragments over the window; largest fragment speed
   double energy_sums_[5];
   std::vector<std::vector<double> > event_lines_;  // rank 0: records awaiting their window
+  // the energy hooks (fix_crush_particle_energy.cpp)
   void energy_of_breaks(const std::vector<int> &parents, const std::vector<std::pair<int, int> > &order,
                         const std::vector<int> &first_tag, std::vector<double> *records);
   void energy_observe();
   void energy_write_closed();
-  void write_event_line(const double *e, const double *extra);
+  void init_energy();
 
+  // the keywords (fix_crush_particle_args.cpp)
   void parse_args(int narg, char **arg);
+  // the criterion (fix_crush_particle_criterion.{h,cpp})
+  void init_criterion();
+  bool eligible(int i) const;
   void assign_strength(int i);
   void assign_missing_strengths();
+  // screening and its schedule (fix_crush_particle_screening.cpp, detect in fix_crush_particle.cpp)
   void consider(int i, double delta, double R_star, int ti, int tj, int partner);
   void clear_candidates();
   void detect(bool blocking);
   void finish_count();
-  double current_time() const;
   void find_candidates_pairs();
   void find_candidates_walls();
+  // fragmentation (fix_crush_particle_break.cpp)
   void break_particles();
   double fragment_speed_factor(const double *r, int n, double rho) const;
+  // accounting (fix_crush_particle_accounting.cpp)
+  void take_initial_grading();
   void count_atoms();
   void check_atom_count();
-  void write_events(const std::vector<double> &local_records, int nrec_local);
-  void check_timestep();
   void compute_globals();
-  bool eligible(int i) const;
+  // the event log (fix_crush_particle_events.cpp)
+  void open_event_log();
+  void write_events(const std::vector<double> &local_records, int nrec_local);
+  void write_event_line(const double *e, const double *extra);
+  // time-step checks (fix_crush_particle_timestep.cpp)
+  void check_timestep();
+  // simulation time, continuous across restart files (fix_crush_particle.cpp)
+  double current_time() const;
 };
 
 }

@@ -9,6 +9,13 @@
    particle-mesh contacts from LIGGGHTS' compute pair/gran/local and
    wall/gran/local. Serial HDF5 C API; data gathered to rank 0 with MPI.
    Doc: docs/fix_snapshot_hdf5.md
+
+   Where the code is:
+     fix_snapshot_hdf5.cpp         keywords, trigger, the contact computes
+     fix_snapshot_hdf5_record.cpp  what a snapshot records: particles, values,
+                                   contacts, gathered to rank 0 (write_snapshot)
+     snapshot_hdf5_writer.{h,cpp}  the HDF5 file: groups, data sets, attributes
+                                   (no LIGGGHTS dependency)
 ------------------------------------------------------------------------- */
 
 #ifdef FIX_CLASS
