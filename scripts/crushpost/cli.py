@@ -224,13 +224,8 @@ def _cmd_spheres(args):
     return 0
 
 
-def build_parser():
-    """The argparse parser with the ``br``, ``fit-qc``, ``thermo``, ``pile``, ``spheres`` and
-    ``report`` subcommands."""
-    ap = argparse.ArgumentParser(prog="crushpost",
-                                 description="Post-processing of crushable-sand DEM runs.")
-    sub = ap.add_subparsers(dest="command", required=True)
-
+def _add_br(sub):
+    """The ``br`` subcommand."""
     br = sub.add_parser("br", help="Einav breakage index Br of a dump snapshot")
     br.add_argument("dump", help="text dump with radius (or diameter) per particle")
     br.add_argument("--initial", help="dump holding the initial grading "
@@ -267,6 +262,9 @@ def build_parser():
                     help="print Br, Br_einav (unbounded), B_t, B_p, ... as JSON")
     br.set_defaults(func=_cmd_br)
 
+
+def _add_fit_qc(sub):
+    """The ``fit-qc`` subcommand."""
     fq = sub.add_parser("fit-qc", help="fit q_c(h) = a (1 - exp(-b h)); prints JSON "
                         "(a, b, their errors, the points used, the mean q_c of each depth band)")
     fq.add_argument("file", help="text file with columns h and q_c ('#' comments; every "
@@ -281,12 +279,18 @@ def build_parser():
                     "(default 0.025: 25 mm for a jack/pile series)")
     fq.set_defaults(func=_cmd_fit_qc)
 
+
+def _add_thermo(sub):
+    """The ``thermo`` subcommand."""
     th = sub.add_parser("thermo", help="column summary of the thermo output of a log")
     th.add_argument("log")
     th.add_argument("--concat", action="store_true",
                     help="summarise all runs joined instead of run by run")
     th.set_defaults(func=_cmd_thermo)
 
+
+def _add_pile(sub):
+    """The ``pile`` subcommand."""
     pl = sub.add_parser("pile", help="cone tip (60 deg) and shaft of the pile as two ASCII "
                         "STL meshes; prints their geometry as JSON")
     pl.add_argument("--radius", type=float, required=True, help="pile radius R [m]")
@@ -311,6 +315,9 @@ def build_parser():
                     help="file name of the shaft (shaft.stl)")
     pl.set_defaults(func=_cmd_pile)
 
+
+def _add_spheres(sub):
+    """The ``spheres`` subcommand."""
     sp = sub.add_parser("spheres", help="deck block (stock LIGGGHTS commands) for measurement "
                         "spheres; `include` it after the walls; prints JSON")
     sp.add_argument("--radius", type=float, required=True, help="sphere radius [m]")
@@ -333,6 +340,9 @@ def build_parser():
     sp.add_argument("--out", required=True, help="block file to write (e.g. spheres.in)")
     sp.set_defaults(func=_cmd_spheres)
 
+
+def _add_merge_parts(sub):
+    """The ``merge-parts`` subcommand."""
     mp = sub.add_parser("merge-parts", help="merge the parts of a chamber run that went on "
                         "from restart files into jack.txt, breakage_events.txt, spheres.txt and "
                         "log.liggghts (docs/cpt.md 'Restarting a run')")
@@ -340,6 +350,9 @@ def build_parser():
                     "log.part<k>.liggghts (their first thermo step is the restart step)")
     mp.set_defaults(func=_cmd_merge_parts)
 
+
+def _add_report(sub):
+    """The ``report`` subcommand."""
     rp = sub.add_parser("report", help="the analyses of a chamber run: figures (PNG), "
                         "fields.h5 and report.html (docs/report.md)")
     rp.add_argument("run_dir", help="the run's folder (examples/cpt_demo/run.py --out): "
@@ -373,6 +386,9 @@ def build_parser():
     rp.add_argument("--quiet", action="store_true", help="print errors only")
     rp.set_defaults(func=_cmd_report)
 
+
+def _add_compare(sub):
+    """The ``compare`` subcommand."""
     cp = sub.add_parser("compare", help="two chamber runs side by side: the q_c ratio A/B and "
                         "the difference in crushing (events by zone, Br over the penetrated "
                         "layers), e.g. the demo with --grains unbreakable (A) and crushable (B)")
@@ -380,6 +396,19 @@ def build_parser():
     cp.add_argument("run_b", help="run folder B")
     cp.add_argument("--json", action="store_true", help="print JSON instead of a table")
     cp.set_defaults(func=_cmd_compare)
+
+
+def build_parser():
+    """The argparse parser with one subcommand per task (``br``, ``fit-qc``,
+    ``thermo``, ``pile``, ``spheres``, ``merge-parts``, ``report``,
+    ``compare``), each added by its ``_add_*`` function."""
+    ap = argparse.ArgumentParser(prog="crushpost",
+                                 description="Post-processing of crushable-sand DEM runs.")
+    sub = ap.add_subparsers(dest="command", required=True)
+
+    for add in (_add_br, _add_fit_qc, _add_thermo, _add_pile, _add_spheres, _add_merge_parts,
+                _add_report, _add_compare):
+        add(sub)
     return ap
 
 
