@@ -246,6 +246,26 @@ def _density_rule_row(seed):
 
 ENTRIES += _density_rule_row(2024) + _density_rule_row(2025)
 
+# the first chamber piece of the criterion readings (docs/studies/criterion-readings.md, Status)
+_CR_PRINTED = "docs/studies/criterion-readings.md"
+
+
+def _cr_printed(key, scale=1.0):
+    return lambda d: d["runs"]["chamber_printed_seed2024"]["metrics"][key] * scale
+
+
+ENTRIES += [
+    N(_CR_PRINTED, r"The printed reading, seed 2024: steady q_c ([\d.]+) MPa", CR,
+      _cr_printed("qc_steady_MPa")),
+    N(_CR_PRINTED, r"of the 49 during penetration 21 in the zone \(([\d]+) %", CR,
+      _cr_printed("fraction_in_zone", 100.0)),
+    N(_CR_PRINTED, r"Br over the penetrated layers ([\d.]+) in 1-2 R", CR,
+      _cr_printed("Br_penetrated_1_2R")),
+    N(_CR_PRINTED, r"in 1-2 R and ([\d.]+) in 2-3 R", CR, _cr_printed("Br_penetrated_2_3R")),
+    N(_CR_PRINTED, r"([\d]+) break events, 22 of them at switch-on", CR,
+      _cr_printed("n_break_events")),
+]
+
 FACTS = [
     # the reference page and the study both state the blow-up check's place and defaults
     fact for doc in ("docs/stability.md", "docs/studies/stability.md") for fact in (
