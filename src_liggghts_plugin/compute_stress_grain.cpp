@@ -42,12 +42,6 @@
 
 using namespace LAMMPS_NS;
 
-namespace {
-
-std::string str(const char *a) { return std::string(a ? a : ""); }
-
-}  // namespace
-
 /* ---------------------------------------------------------------------- */
 
 ComputeStressGrain::ComputeStressGrain(LAMMPS *lmp, int &iarg, int narg, char **arg) :
@@ -96,29 +90,32 @@ ComputePairGranLocal *ComputeStressGrain::find_local(const char *key, const std:
       if (strcmp(modify->compute[k]->style, style) == 0) ic = k;
     if (ic < 0)
       error->all(FLERR, ("compute stress/grain needs the contact forces of a compute " +
-                         str(style) + ": define 'compute CID all " + style + " " + needs +
+                         arg_text(style) + ": define 'compute CID all " + style + " " + needs +
                          "' before the first run (e.g. inputs/contacts_local.in)" +
                          (wall ? ", or give 'wall_local none' when the deck has no mesh walls"
                                : "")).c_str());
   } else {
     ic = modify->find_compute(id.c_str());
     if (ic < 0)
-      error->all(FLERR, ("compute stress/grain: keyword '" + str(key) + "': no compute with ID '" +
+      error->all(FLERR, ("compute stress/grain: keyword '" + arg_text(key) +
+                         "': no compute with ID '" +
                          id + "'").c_str());
   }
   Compute *c = modify->compute[ic];
   ComputePairGranLocal *p = dynamic_cast<ComputePairGranLocal *>(c);
   if (!p || strcmp(c->style, style) != 0)
-    error->all(FLERR, ("compute stress/grain: keyword '" + str(key) + "': compute '" +
-                       str(c->id) + "' (" + str(c->style) + ") is not a compute " + style).c_str());
+    error->all(FLERR, ("compute stress/grain: keyword '" + arg_text(key) + "': compute '" +
+                       arg_text(c->id) + "' (" + arg_text(c->style) + ") is not a compute " +
+                                             style).c_str());
   const bool ok = p->offset_id1() >= 0 && p->offset_f() >= 0 &&
                   (wall ? p->offset_x1() >= 0 : p->offset_contact_point() >= 0);
   if (!ok)
-    error->all(FLERR, ("compute stress/grain: compute '" + str(c->id) + "' must store " + needs +
+    error->all(FLERR, ("compute stress/grain: compute '" + arg_text(c->id) + "' must store " +
+                       needs +
                        " (list these keywords in its compute command)").c_str());
   if (c->igroup != 0 && comm->me == 0)
-    error->warning(FLERR, ("compute stress/grain: compute '" + str(c->id) + "' has group '" +
-                           str(group->names[c->igroup]) + "', not 'all': contacts with "
+    error->warning(FLERR, ("compute stress/grain: compute '" + arg_text(c->id) + "' has group '" +
+                           arg_text(group->names[c->igroup]) + "', not 'all': contacts with "
                            "particles outside it are not counted").c_str());
   return p;
 }
@@ -139,7 +136,7 @@ void ComputeStressGrain::init()
     if (w->is_mesh_wall()) {
       mesh_wall = true;
     } else {
-      error->all(FLERR, ("compute stress/grain: fix " + str(modify->fix[k]->id) +
+      error->all(FLERR, ("compute stress/grain: fix " + arg_text(modify->fix[k]->id) +
                          " is a primitive wall/gran (plane or cylinder), whose contacts "
                          "LIGGGHTS does not list, so its forces would be missing from the "
                          "stress; use a mesh wall (fix mesh/surface in the deck's mesh wall "

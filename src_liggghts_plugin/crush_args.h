@@ -25,6 +25,10 @@
 
 namespace LAMMPS_NS {
 
+// A C string of LIGGGHTS (a fix's id, a style, an arg word) for a message;
+// null reads as "" so that a message never dereferences it.
+inline std::string arg_text(const char *a) { return std::string(a ? a : ""); }
+
 class CrushArgs {
  public:
   // style: the command as messages name it ("fix crush/particle");

@@ -23,10 +23,6 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 using namespace CrushKernels;
 
-namespace {
-std::string str(const char *a) { return std::string(a ? a : ""); }
-}  // namespace
-
 /* ---------------------------------------------------------------------- */
 
 void FixCrushParticle::parse_args(int narg, char **arg)
@@ -91,7 +87,7 @@ void FixCrushParticle::parse_args(int narg, char **arg)
   static const char *required[] = {"sigma_lim0", "m", "d0", "scale", "var", "d_comm", "seed"};
   for (unsigned k = 0; k < sizeof(required) / sizeof(required[0]); k++)
     if (!a.given(required[k]))
-      a.fail("missing required keyword '" + str(required[k]) +
+      a.fail("missing required keyword '" + arg_text(required[k]) +
              "' (required: sigma_lim0 m d0 scale var d_comm seed)");
 
   // Einav limit grading: default NE34 sizes (docs/model.md §3) scaled by N

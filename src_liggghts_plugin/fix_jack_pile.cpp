@@ -45,7 +45,6 @@ namespace {
 
 const int kRestartSize = 13;
 
-std::string str(const char *a) { return std::string(a ? a : ""); }
 
 char *copy_string(const char *s)
 {
@@ -114,7 +113,7 @@ FixJackPile::FixJackPile(LAMMPS *lmp, int narg, char **arg) :
     }
     MPI_Bcast(&ok, 1, MPI_INT, 0, world);
     if (!ok)
-      error->all(FLERR, ("fix jack/pile: cannot open file '" + str(file_name_) +
+      error->all(FLERR, ("fix jack/pile: cannot open file '" + arg_text(file_name_) +
                          "' given to keyword 'file'").c_str());
   }
 }
@@ -189,7 +188,8 @@ void FixJackPile::parse_args(int narg, char **arg)
                       "mesh/surface/stress of the shaft)");
   if (strcmp(cone_id_, shaft_id_) == 0)
     error->all(FLERR, ("fix jack/pile: keywords 'cone' and 'shaft' name the same fix '" +
-                       str(cone_id_) + "'; the cone and the shaft must be separate meshes").c_str());
+                       arg_text(cone_id_) +
+                       "'; the cone and the shaft must be separate meshes").c_str());
   if (!a.given("mode"))
     error->all(FLERR, "fix jack/pile: missing required keyword 'mode' (monotonic or cyclic)");
   if (!a.given("v"))
@@ -210,7 +210,7 @@ void FixJackPile::parse_args(int narg, char **arg)
   }
   const char *bad = jack_invalid_param(params_);
   if (bad)  // cannot happen after the checks above; kept as a guard
-    error->all(FLERR, ("fix jack/pile: invalid value of keyword '" + str(bad) + "'").c_str());
+    error->all(FLERR, ("fix jack/pile: invalid value of keyword '" + arg_text(bad) + "'").c_str());
 }
 
 /* ---------------------------------------------------------------------- */
@@ -229,15 +229,15 @@ FixMeshSurface *FixJackPile::find_mesh(const char *key, const char *mesh_id,
 {
   const int ifix = modify->find_fix(mesh_id);
   if (ifix < 0)
-    error->all(FLERR, ("fix jack/pile: keyword '" + str(key) + "': no fix with ID '" +
-                       str(mesh_id) + "'; give the ID of a fix mesh/surface/stress").c_str());
+    error->all(FLERR, ("fix jack/pile: keyword '" + arg_text(key) + "': no fix with ID '" +
+                       arg_text(mesh_id) + "'; give the ID of a fix mesh/surface/stress").c_str());
   Fix *f = modify->fix[ifix];
   FixMeshSurface *mesh = dynamic_cast<FixMeshSurface *>(f);
   MeshModuleStress *module = NULL;
   if (mesh) module = dynamic_cast<MeshModuleStress *>(mesh->get_module("stress"));
   if (!mesh || !module || !module->trackStress())
-    error->all(FLERR, ("fix jack/pile: keyword '" + str(key) + "': fix '" + str(mesh_id) +
-                       "' (" + str(f->style) + ") is not a fix mesh/surface/stress with "
+    error->all(FLERR, ("fix jack/pile: keyword '" + arg_text(key) + "': fix '" + arg_text(mesh_id) +
+                       "' (" + arg_text(f->style) + ") is not a fix mesh/surface/stress with "
                        "stress on; the controller needs the total force on the mesh").c_str());
   *stress = module;
   return mesh;
@@ -273,7 +273,8 @@ double FixJackPile::mesh_min_z(FixMeshSurface *fix)
   double all = DBL_MAX;
   MPI_Allreduce(&zmin, &all, 1, MPI_DOUBLE, MPI_MIN, world);
   if (all == DBL_MAX)
-    error->all(FLERR, ("fix jack/pile: mesh of fix '" + str(fix->id) + "' has no elements").c_str());
+    error->all(FLERR, ("fix jack/pile: mesh of fix '" + arg_text(fix->id) +
+                       "' has no elements").c_str());
   return all;
 }
 

@@ -56,8 +56,6 @@ using namespace CrushKernels;
 
 namespace {
 
-std::string str(const char *a) { return std::string(a ? a : ""); }
-
 // relative tolerances of the geometry check
 const double kVerticalTol = 1e-4;  // |n_z| of a facet
 const double kRadiusTol = 1e-3;    // spread of node distances from the axis
@@ -141,7 +139,7 @@ void FixServoRadial::parse_args(int narg, char **arg)
   else if (!a.given("gain")) missing = "gain";
   else if (!a.given("height")) missing = "height";
   if (missing)
-    a.fail("missing required keyword '" + str(missing) +
+    a.fail("missing required keyword '" + arg_text(missing) +
            "' (required: mesh ID, target S > 0, gain K > 0, height H > 0 or v_NAME)");
   if (!a.given("vmax")) vmax_ = gain_ * target_;
 }
@@ -168,7 +166,8 @@ FixMeshSurface *FixServoRadial::find_mesh(bool must_exist)
   }
   FixMeshSurface *fm = dynamic_cast<FixMeshSurface *>(modify->fix[ifix]);
   if (!fm || !fm->trackStress())
-    error->all(FLERR, ("fix servo/radial: fix '" + mesh_id_ + "' (" + str(modify->fix[ifix]->style) +
+    error->all(FLERR, ("fix servo/radial: fix '" + mesh_id_ + "' (" +
+                       arg_text(modify->fix[ifix]->style) +
                        ") given to keyword 'mesh' is not a fix mesh/surface/stress with stress "
                        "tracking on; the servo reads the wall force from it").c_str());
   return fm;
@@ -192,7 +191,8 @@ void FixServoRadial::check_mesh_compatible()
     if (!f || f == this) continue;
     FixMoveMesh *mv = dynamic_cast<FixMoveMesh *>(f);
     if (mv && mv->fixMeshCompare(fix_mesh_))
-      error->all(FLERR, ("fix servo/radial: fix move/mesh '" + str(f->id) + "' also moves mesh '" +
+      error->all(FLERR, ("fix servo/radial: fix move/mesh '" + arg_text(f->id) +
+                         "' also moves mesh '" +
                          mesh_id_ + "'; a servo-controlled wall cannot be moved by another fix").c_str());
   }
 }
@@ -259,7 +259,7 @@ void FixServoRadial::init()
     if (f == this) { me = i; continue; }
     if (f && strcmp(f->style, style) == 0 &&
         static_cast<FixServoRadial *>(f)->mesh_id_ == mesh_id_)
-      error->all(FLERR, ("fix servo/radial: fixes '" + str(f->id) + "' and '" + str(id) +
+      error->all(FLERR, ("fix servo/radial: fixes '" + arg_text(f->id) + "' and '" + arg_text(id) +
                          "' both servo mesh '" + mesh_id_ + "'; use one").c_str());
   }
 
@@ -278,7 +278,8 @@ void FixServoRadial::init()
                              "'; the measured stress is zero and the wall will shrink").c_str());
   } else if (last_wall > me) {
     error->all(FLERR, ("fix servo/radial: define it after fix wall/gran '" +
-                       str(modify->fix[last_wall]->id) + "', which puts the grains' forces on mesh '" +
+                       arg_text(modify->fix[last_wall]->id) +
+                       "', which puts the grains' forces on mesh '" +
                        mesh_id_ + "'").c_str());
   }
 
@@ -434,7 +435,7 @@ void FixServoRadial::measure(bool include_ghosts)
       char buf[160];
       snprintf(buf, sizeof(buf), "%g degrees (arc %g m) is wider than mesh '%s' (perimeter %g m)",
                sector_deg_, arc, mesh_id_.c_str(), perimeter);
-      error->all(FLERR, ("fix servo/radial: keyword 'sector': " + str(buf) +
+      error->all(FLERR, ("fix servo/radial: keyword 'sector': " + arg_text(buf) +
                          "; the mesh must span at least the sector").c_str());
     }
     perimeter = arc;

@@ -51,12 +51,6 @@
 using namespace LAMMPS_NS;
 using namespace FixConst;
 
-namespace {
-
-std::string str(const char *a) { return std::string(a ? a : ""); }
-
-}  // namespace
-
 /* ---------------------------------------------------------------------- */
 
 FixSnapshotHdf5::FixSnapshotHdf5(LAMMPS *lmp, int narg, char **arg) :
@@ -94,26 +88,26 @@ FixSnapshotHdf5::Ref FixSnapshotHdf5::parse_ref(const char *key, const char *tex
       : "c_ID, c_ID[n], f_ID, f_ID[n] (global scalar or vector element) or v_name "
         "(equal-style variable)";
   if (t.size() < 3 || t[1] != '_' || (t[0] != 'c' && t[0] != 'f' && t[0] != 'v'))
-    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "' got '" + t +
+    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "' got '" + t +
                        "'; expected " + what).c_str());
   r.which = t[0];
   std::string name = t.substr(2);
   const size_t b = name.find('[');
   if (b != std::string::npos) {
     if (r.which == 'v' || name[name.size() - 1] != ']')
-      error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "' got '" + t +
+      error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "' got '" + t +
                          "'; expected " + what).c_str());
     const std::string idx = name.substr(b + 1, name.size() - b - 2);
     char *end = NULL;
     const long n = strtol(idx.c_str(), &end, 10);
     if (idx.empty() || *end != '\0' || n < 1 || n > 1000000)
-      error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "': index of '" + t +
+      error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "': index of '" + t +
                          "' must be an integer >= 1").c_str());
     r.index = (int)n;
     name = name.substr(0, b);
   }
   if (name.empty())
-    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "' got '" + t +
+    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "' got '" + t +
                        "'; expected " + what).c_str());
   r.id = name;
   return r;
@@ -198,8 +192,9 @@ void FixSnapshotHdf5::post_create()
     for (int i = 0; i < modify->ncompute; i++)
       if (strcmp(modify->compute[i]->style, "pair/gran/local") == 0)
         error->all(FLERR, ("fix snapshot/hdf5: the deck already has compute pair/gran/local '" +
-                           str(modify->compute[i]->id) + "' and LIGGGHTS allows only one; pass "
-                           "it with keyword 'pair_local " + str(modify->compute[i]->id) +
+                           arg_text(modify->compute[i]->id) +
+                           "' and LIGGGHTS allows only one; pass "
+                           "it with keyword 'pair_local " + arg_text(modify->compute[i]->id) +
                            "'").c_str());
     if (after_first_run)
       error->all(FLERR, "fix snapshot/hdf5: 'contacts yes' creates a compute pair/gran/local, "
@@ -267,19 +262,20 @@ void FixSnapshotHdf5::check_local_compute(const char *key, const std::string &ci
 {
   const int ic = modify->find_compute(cid.c_str());
   if (ic < 0)
-    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "': no compute with ID '" +
+    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "': no compute with ID '" +
                        cid + "'").c_str());
   Compute *c = modify->compute[ic];
   const char *style = wall ? "wall/gran/local" : "pair/gran/local";
   ComputePairGranLocal *p = dynamic_cast<ComputePairGranLocal *>(c);
   if (!p || strcmp(c->style, style) != 0)
-    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "': compute '" + cid + "' (" +
-                       str(c->style) + ") is not a compute " + style).c_str());
+    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "': compute '" + cid +
+                       "' (" +
+                       arg_text(c->style) + ") is not a compute " + style).c_str());
   const bool ok = p->offset_x1() >= 0 && p->offset_id1() >= 0 && p->offset_f() >= 0 &&
                   p->offset_fn() >= 0 && p->offset_delta() >= 0 &&
                   (wall || p->offset_contact_point() >= 0);
   if (!ok)
-    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + str(key) + "': compute '" + cid +
+    error->all(FLERR, ("fix snapshot/hdf5: keyword '" + arg_text(key) + "': compute '" + cid +
                        "' must store " + (wall ? "pos id force force_normal delta"
                                                : "pos id force force_normal delta contactPoint") +
                        " (list these keywords in the compute command)").c_str());
@@ -374,13 +370,14 @@ void FixSnapshotHdf5::init()
       flag = 1;
     }
     if (ivalue_[k] < 0)
-      error->all(FLERR, ("fix snapshot/hdf5: keyword 'values': no " + str(kind) + " '" + r.id +
+      error->all(FLERR, ("fix snapshot/hdf5: keyword 'values': no " + arg_text(kind) + " '" + r.id +
                          "' (for '" + r.text + "')").c_str());
     if (!flag)
-      error->all(FLERR, ("fix snapshot/hdf5: keyword 'values': " + str(kind) + " '" + r.id +
+      error->all(FLERR, ("fix snapshot/hdf5: keyword 'values': " + arg_text(kind) + " '" + r.id +
                          "' computes no per-atom values").c_str());
     if (r.index > 0 && (cols == 0 || r.index > cols))
-      error->all(FLERR, ("fix snapshot/hdf5: keyword 'values': '" + r.text + "': " + str(kind) +
+      error->all(FLERR, ("fix snapshot/hdf5: keyword 'values': '" + r.text + "': " +
+                         arg_text(kind) +
                          " '" + r.id + "' has " +
                          (cols == 0 ? std::string("a per-atom vector; write it without [n]")
                                     : "per-atom columns 1.." + std::to_string(cols))).c_str());

@@ -20,6 +20,7 @@
 #include "comm.h"
 #include "compute.h"
 #include "compute_pair_gran_local.h"
+#include "crush_args.h"
 #include "error.h"
 #include "fix_mesh_surface.h"
 #include "fix_wall_gran.h"
@@ -32,10 +33,6 @@
 
 using namespace LAMMPS_NS;
 using namespace SnapshotHdf5;
-
-namespace {
-std::string str(const char *a) { return std::string(a ? a : ""); }
-}  // namespace
 
 /* ---------------------------------------------------------------------- */
 
@@ -252,7 +249,7 @@ void FixSnapshotHdf5::write_snapshot(double old_value, double new_value)
         s.wall_fix = fw->id;
         s.meshes.clear();
         for (int m = 0; m < fw->n_meshes(); m++)
-          s.meshes += (m ? " " : "") + str(fw->mesh_list()[m]->id);
+          s.meshes += (m ? " " : "") + arg_text(fw->mesh_list()[m]->id);
       }
     }
     ok = SnapshotHdf5::write_file(path, s);
