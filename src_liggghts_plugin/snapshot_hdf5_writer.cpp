@@ -112,6 +112,28 @@ std::vector<long long> int_column_block(const std::vector<double> &t, int ncols,
   return out;
 }
 
+// The contact point, force, normal force and overlap, which a grain-grain
+// (PP_CP...) and a grain-wall (PW_CP...) table hold in the same order from
+// column `cp` on: one writer for both groups of write_file.
+bool h5_contact_forces(hid_t g, const SnapshotHdf5::Table &t, const std::vector<size_t> &order,
+                       int cp)
+{
+  const hsize_t n = order.size();
+  bool w = h5_doubles(g, "contact_point", column_block(t.data, t.ncols, order, cp, 3), n, 3);
+  w &= h5_doubles(g, "force", column_block(t.data, t.ncols, order, cp + 3, 3), n, 3);
+  w &= h5_doubles(g, "force_normal", column_block(t.data, t.ncols, order, cp + 6, 3), n, 3);
+  w &= h5_doubles(g, "overlap", column_block(t.data, t.ncols, order, cp + 9, 1), n, 1);
+  return w;
+}
+static_assert(SnapshotHdf5::PP_F == SnapshotHdf5::PP_CP + 3 &&
+                  SnapshotHdf5::PP_FN == SnapshotHdf5::PP_CP + 6 &&
+                  SnapshotHdf5::PP_DELTA == SnapshotHdf5::PP_CP + 9,
+              "h5_contact_forces reads the grain-grain columns in this order");
+static_assert(SnapshotHdf5::PW_F == SnapshotHdf5::PW_CP + 3 &&
+                  SnapshotHdf5::PW_FN == SnapshotHdf5::PW_CP + 6 &&
+                  SnapshotHdf5::PW_DELTA == SnapshotHdf5::PW_CP + 9,
+              "h5_contact_forces reads the grain-wall columns in this order");
+
 }  // namespace
 
 namespace SnapshotHdf5 {
@@ -170,10 +192,7 @@ int write_file(const std::string &path, const Snapshot &s)
       w &= h5_attr_int64(g1, "count", npp);
       w &= h5_attr_string(g1, "compute", s.pp_compute);
       w &= h5_int64s(g1, "id", int_column_block(pp.data, pp.ncols, order, PP_I, 2), npp, 2);
-      w &= h5_doubles(g1, "contact_point", column_block(pp.data, pp.ncols, order, PP_CP, 3), npp, 3);
-      w &= h5_doubles(g1, "force", column_block(pp.data, pp.ncols, order, PP_F, 3), npp, 3);
-      w &= h5_doubles(g1, "force_normal", column_block(pp.data, pp.ncols, order, PP_FN, 3), npp, 3);
-      w &= h5_doubles(g1, "overlap", column_block(pp.data, pp.ncols, order, PP_DELTA, 1), npp, 1);
+      w &= h5_contact_forces(g1, pp, order, PP_CP);
       H5Gclose(g1);
       if (s.walls) {
         hid_t g2 = H5Gcreate2(gc, "pw", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
@@ -194,10 +213,7 @@ int write_file(const std::string &path, const Snapshot &s)
                         npw, 1);
         }
         w &= h5_int64s(g2, "triangle", int_column_block(pw.data, pw.ncols, order, PW_TRI, 1), npw, 1);
-        w &= h5_doubles(g2, "contact_point", column_block(pw.data, pw.ncols, order, PW_CP, 3), npw, 3);
-        w &= h5_doubles(g2, "force", column_block(pw.data, pw.ncols, order, PW_F, 3), npw, 3);
-        w &= h5_doubles(g2, "force_normal", column_block(pw.data, pw.ncols, order, PW_FN, 3), npw, 3);
-        w &= h5_doubles(g2, "overlap", column_block(pw.data, pw.ncols, order, PW_DELTA, 1), npw, 1);
+        w &= h5_contact_forces(g2, pw, order, PW_CP);
         H5Gclose(g2);
       }
       H5Gclose(gc);
