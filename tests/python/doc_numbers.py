@@ -17,7 +17,9 @@ To add a number: quote it in the doc, add an entry here, and run
 `build/venv/bin/python -m pytest tests/python/test_doc_numbers.py`.
 """
 
+import json
 import statistics
+from pathlib import Path
 
 import numpy as np
 
@@ -254,6 +256,20 @@ def _cr_printed(key, scale=1.0):
     return lambda d: d["runs"]["chamber_printed_seed2024"]["metrics"][key] * scale
 
 
+def _cr_piece(name, key, scale=1.0):
+    return lambda d: d["runs"][name]["metrics"][key] * scale
+
+
+def _cr_unbreakable_qc():
+    """The pooled unbreakable reference q_c the study's ratios divide by
+    (MPa): the mean over the error-vs-runtime study's two unbreakable
+    chamber seeds, as bench/criterion_readings/run.py pools it."""
+    path = Path(__file__).resolve().parents[2] / "bench/error_vs_runtime/results.json"
+    runs = json.loads(path.read_text())["runs"]
+    return statistics.mean(runs[n]["metrics"]["qc_steady_MPa"]
+                           for n in ("chamber_rigid_ref", "chamber_rigid_ref_seed2025"))
+
+
 ENTRIES += [
     N(_CR_PRINTED, r"The printed reading, seed 2024: steady q_c ([\d.]+) MPa", CR,
       _cr_printed("qc_steady_MPa")),
@@ -261,9 +277,21 @@ ENTRIES += [
       _cr_printed("fraction_in_zone", 100.0)),
     N(_CR_PRINTED, r"Br over the penetrated layers ([\d.]+) in 1-2 R", CR,
       _cr_printed("Br_penetrated_1_2R")),
-    N(_CR_PRINTED, r"in 1-2 R and ([\d.]+) in 2-3 R", CR, _cr_printed("Br_penetrated_2_3R")),
+    N(_CR_PRINTED, r"in 1-2 R and ([\d.]+) in 2-3 R\s+\(more", CR,
+      _cr_printed("Br_penetrated_2_3R")),
     N(_CR_PRINTED, r"([\d]+) break events, 22 of them at switch-on", CR,
       _cr_printed("n_break_events")),
+    N(_CR_PRINTED, r"Steady q_c ([\d.]+) MPa, a ratio of\s+1.10", CR,
+      _cr_piece("chamber_peak_truncated_0.5_seed2024", "qc_steady_MPa")),
+    N(_CR_PRINTED, r"a ratio of\s+([\d.]+) to the unbreakable reference; 7 break", CR,
+      lambda d: _cr_unbreakable_qc()
+      / d["runs"]["chamber_peak_truncated_0.5_seed2024"]["metrics"]["qc_steady_MPa"]),
+    N(_CR_PRINTED, r"reference; (\d+) break events, every one", CR,
+      _cr_piece("chamber_peak_truncated_0.5_seed2024", "n_break_events")),
+    N(_CR_PRINTED, r"penetrated layers Br is ([\d.]+) in 1-2 R", CR,
+      _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_1_2R")),
+    N(_CR_PRINTED, r"0.018 in 1-2 R and ([\d.]+) in 2-3 R\. This", CR,
+      _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_2_3R")),
 ]
 
 FACTS = [
