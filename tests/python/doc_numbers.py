@@ -260,6 +260,10 @@ def _cr_piece(name, key, scale=1.0):
     return lambda d: d["runs"][name]["metrics"][key] * scale
 
 
+def _cr_ratio(name):
+    return lambda d: _cr_unbreakable_qc() / d["runs"][name]["metrics"]["qc_steady_MPa"]
+
+
 def _cr_unbreakable_qc():
     """The pooled unbreakable reference q_c the study's ratios divide by
     (MPa): the mean over the error-vs-runtime study's two unbreakable
@@ -281,35 +285,35 @@ ENTRIES += [
       _cr_printed("Br_penetrated_2_3R")),
     N(_CR_PRINTED, r"([\d]+) break events, 22 of them at switch-on", CR,
       _cr_printed("n_break_events")),
-    N(_CR_PRINTED, r"Steady q_c ([\d.]+) MPa, a ratio of\s+1.10", CR,
-      _cr_piece("chamber_peak_truncated_0.5_seed2024", "qc_steady_MPa")),
-    N(_CR_PRINTED, r"a ratio of\s+([\d.]+) to the unbreakable reference; 7 break", CR,
-      lambda d: _cr_unbreakable_qc()
-      / d["runs"]["chamber_peak_truncated_0.5_seed2024"]["metrics"]["qc_steady_MPa"]),
-    N(_CR_PRINTED, r"reference; (\d+) break events, every one", CR,
-      _cr_piece("chamber_peak_truncated_0.5_seed2024", "n_break_events")),
-    N(_CR_PRINTED, r"penetrated layers Br is ([\d.]+) in 1-2 R and 0.002", CR,
-      _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_1_2R")),
-    N(_CR_PRINTED, r"0.018 in 1-2 R and ([\d.]+) in 2-3 R\. This", CR,
-      _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_2_3R")),
-    N(_CR_PRINTED, r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.43", CR,
-      _cr_piece("chamber_peak_seed2024", "qc_steady_MPa")),
-    N(_CR_PRINTED, r"a ratio of ([\d.]+) to the unbreakable reference: inside", CR,
-      lambda d: _cr_unbreakable_qc() / d["runs"]["chamber_peak_seed2024"]["metrics"]["qc_steady_MPa"]),
-    N(_CR_PRINTED, r"(\d+) break events: 39 at switch-on", CR,
-      _cr_piece("chamber_peak_seed2024", "n_break_events")),
-    N(_CR_PRINTED, r"events: (\d+) at switch-on,\s+20 at entry", CR,
-      _cr_piece("chamber_peak_seed2024", "events_switch_on")),
-    N(_CR_PRINTED, r"of the (\d+) during penetration 51", CR,
-      _cr_piece("chamber_peak_seed2024", "events_penetration")),
-    N(_CR_PRINTED, r"penetration 51 in the zone \((\d+) %\)", CR,
-      _cr_piece("chamber_peak_seed2024", "fraction_in_zone", 100.0)),
-    N(_CR_PRINTED, r"in the zone \(55 %\), (\d+)\s+beyond 5 R", CR,
-      _cr_piece("chamber_peak_seed2024", "events_beyond_5R_below")),
-    N(_CR_PRINTED, r"Br is ([\d.]+) in 1-2 R and 0.068", CR,
-      _cr_piece("chamber_peak_seed2024", "Br_penetrated_1_2R")),
-    N(_CR_PRINTED, r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four", CR,
-      _cr_piece("chamber_peak_seed2024", "Br_penetrated_2_3R")),
+] + [
+    # each chamber piece's quoted numbers: (piece, pattern, metric or "ratio", scale)
+    N(_CR_PRINTED, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+    for piece, pattern, key, scale in (
+        ("chamber_peak_truncated_0.5_seed2024", r"Steady q_c ([\d.]+) MPa, a ratio of\s+1.10",
+         "qc_steady_MPa", 1.0),
+        ("chamber_peak_truncated_0.5_seed2024",
+         r"a ratio of\s+([\d.]+) to the unbreakable reference; 7 break", "ratio", 1.0),
+        ("chamber_peak_truncated_0.5_seed2024", r"reference; (\d+) break events, every one",
+         "n_break_events", 1.0),
+        ("chamber_peak_truncated_0.5_seed2024",
+         r"penetrated layers Br is ([\d.]+) in 1-2 R and 0.002", "Br_penetrated_1_2R", 1.0),
+        ("chamber_peak_truncated_0.5_seed2024", r"0.018 in 1-2 R and ([\d.]+) in 2-3 R\. This",
+         "Br_penetrated_2_3R", 1.0),
+        ("chamber_peak_seed2024", r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.43", "qc_steady_MPa", 1.0),
+        ("chamber_peak_seed2024", r"a ratio of ([\d.]+) to the unbreakable reference: inside",
+         "ratio", 1.0),
+        ("chamber_peak_seed2024", r"(\d+) break events: 39 at switch-on", "n_break_events", 1.0),
+        ("chamber_peak_seed2024", r"events: (\d+) at switch-on,\s+20 at entry",
+         "events_switch_on", 1.0),
+        ("chamber_peak_seed2024", r"of the (\d+) during penetration 51", "events_penetration", 1.0),
+        ("chamber_peak_seed2024", r"penetration 51 in the zone \((\d+) %\)", "fraction_in_zone",
+         100.0),
+        ("chamber_peak_seed2024", r"in the zone \(55 %\), (\d+)\s+beyond 5 R",
+         "events_beyond_5R_below", 1.0),
+        ("chamber_peak_seed2024", r"Br is ([\d.]+) in 1-2 R and 0.068", "Br_penetrated_1_2R", 1.0),
+        ("chamber_peak_seed2024", r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
+         "Br_penetrated_2_3R", 1.0),
+    )
 ]
 
 FACTS = [
