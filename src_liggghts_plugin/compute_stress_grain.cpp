@@ -106,7 +106,7 @@ ComputePairGranLocal *ComputeStressGrain::find_local(const char *key, const std:
   if (!p || strcmp(c->style, style) != 0)
     error->all(FLERR, ("compute stress/grain: keyword '" + arg_text(key) + "': compute '" +
                        arg_text(c->id) + "' (" + arg_text(c->style) + ") is not a compute " +
-                                             style).c_str());
+                       style).c_str());
   const bool ok = p->offset_id1() >= 0 && p->offset_f() >= 0 &&
                   (wall ? p->offset_x1() >= 0 : p->offset_contact_point() >= 0);
   if (!ok)

@@ -43,7 +43,6 @@
 #include "domain.h"
 #include "error.h"
 #include "fix_mesh_surface.h"
-#include "fix_move_mesh.h"
 #include "fix_wall_gran.h"
 #include "input.h"
 #include "mesh_mover.h"
@@ -58,8 +57,9 @@ using namespace CrushKernels;
 
 namespace {
 
-// relative tolerance of the surface properties recomputed (setup)
-const double kConventionTol = 1e-9;  // recomputed surface properties vs the mesh's
+// setup: largest relative difference allowed between the surface properties
+// this fix recomputes from the nodes and the mesh's own
+const double kConventionTol = 1e-9;
 
 // Access to the node array of a mesh, as a mesh mover has it; moves nothing
 // by itself (the movers' hooks are empty).
