@@ -145,7 +145,7 @@ def run_triaxial(p, root, np_):
     with open(summ) as f:
         s = json.load(f)
     rec["metrics"] = {k: s.get(k) for k in ("phi_peak_deg", "phi_peak_smooth_deg", "phi_cs_deg",
-                                            "n_break_events", "Br_final")}
+                                            "n_break_events", "Br_final", "shear_curve")}
     return rec
 
 
@@ -339,13 +339,24 @@ def penetration_events(ev):
     return h[pen], r[pen], int((~pen).sum())
 
 
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, path):
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    _pyplot().close(fig)
+
+
 def draw_maps(events, path=MAPS_PNG, readings=None):
     """One panel per reading (seeds pooled): the penetration events in the
     (r/R, h/R) plane about the apex, the zone of the acceptance (r < 3R,
     -5R < h < 1.73R) and the pile. Returns the readings drawn."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = _pyplot()
     from crushpost.pile import ZONE_H_BELOW, ZONE_R_MAX
     names = readings or [n for n in list(READINGS) + list(CHAMBER_READINGS)
                          if any(k.startswith("chamber_%s_seed" % n) for k in events)]
@@ -378,10 +389,82 @@ def draw_maps(events, path=MAPS_PNG, readings=None):
                      % (name, h.size, "%.0f %%" % (100.0 * zone.mean()) if h.size else "-",
                         seeds, "" if seeds == 1 else "s", n_other), fontsize=8)
     axes[0][0].set_ylabel("h / R above the apex at the event")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path)
     return names
+
+
+OEDO_PNG = os.path.join(REPO, "docs", "img", "criterion_oedometer_curves.png")
+
+
+def draw_oedometer_curves(data, path=OEDO_PNG):
+    """The oedometer pieces' loading curves (crushpost.oedometer.loading_curve,
+    kept in each record): core void ratio and Br against log sigma_v, one line
+    per reading, the printed reading in black. Returns the readings drawn."""
+    plt = _pyplot()
+    curves = {name: data["runs"]["oedometer_%s" % name]["metrics"].get("loading_curve")
+              for name in READINGS if "oedometer_%s" % name in data["runs"]}
+    names = [n for n, c in curves.items() if c and c.get("sigma_v_MPa")]
+    if not names:
+        return []
+    fig, (ax_e, ax_b) = plt.subplots(1, 2, figsize=(10.0, 4.2))
+    for k, name in enumerate(names):
+        c = curves[name]
+        sv = np.asarray(c["sigma_v_MPa"], float)
+        style = dict(color="k", lw=2.0) if name == "printed" else dict(color="C%d" % (k % 10), lw=1.2)
+        for ax, key in ((ax_e, "e_core"), (ax_b, "Br")):
+            y = np.array([np.nan if v is None else v for v in c[key]], float)
+            ax.plot(sv, y, label=name, **style)
+    for ax, label in ((ax_e, "void ratio of the core"), (ax_b, "Br")):
+        ax.set_xscale("log")
+        ax.set_xlabel("sigma_v (MPa)")
+        ax.set_ylabel(label)
+        ax.grid(True, which="both", lw=0.3)
+    ax_e.set_ylim(bottom=max(-0.2, ax_e.get_ylim()[0]))
+    ax_b.legend(fontsize=7)
+    fig.suptitle("oedometer (N = 39, 5 x 8 d50, packing seed 2024), one line per criterion reading",
+                 fontsize=9)
+    _save(fig, path)
+    return names
+
+
+TRIAX_PNG = os.path.join(REPO, "docs", "img", "criterion_triaxial_curves.png")
+
+
+def draw_triaxial_curves(data, path=TRIAX_PNG):
+    """The triaxial pieces' shearing curves (crushpost.triaxial.shear_curve,
+    kept in each record): q/p and eps_v against eps_a, one colour per reading
+    (the printed one in black), seed 2024 solid and 2025 dashed. Returns the
+    readings drawn."""
+    plt = _pyplot()
+    drawn = []
+    fig, (ax_q, ax_v) = plt.subplots(1, 2, figsize=(10.0, 4.2))
+    for k, name in enumerate(READINGS):
+        for seed, suffix, ls in ((2024, "", "-"), (2025, "_seed2025", "--")):
+            rec = data["runs"].get("triaxial_%s%s" % (name, suffix), {})
+            c = rec.get("metrics", {}).get("shear_curve")
+            if not c or not c.get("eps_a"):
+                continue
+            colour = "k" if name == "printed" else "C%d" % (k % 10)
+            ea = 100.0 * np.asarray(c["eps_a"], float)
+            for ax, key, scale in ((ax_q, "eta", 1.0), (ax_v, "eps_v", 100.0)):
+                y = scale * np.array([np.nan if v is None else v for v in c[key]], float)
+                ax.plot(ea, y, ls=ls, color=colour, lw=1.2,
+                        label="%s, seed %d" % (name, seed))
+            if name not in drawn:
+                drawn.append(name)
+    if not drawn:
+        plt.close(fig)
+        return []
+    ax_q.set_ylabel("q / p")
+    ax_v.set_ylabel("eps_v (%, compression positive)")
+    for ax in (ax_q, ax_v):
+        ax.set_xlabel("eps_a (%)")
+        ax.grid(True, lw=0.3)
+    ax_q.legend(fontsize=7)
+    fig.suptitle("drained triaxial (examples/triaxial/run.py defaults), one colour per criterion "
+                 "reading", fontsize=9)
+    _save(fig, path)
+    return drawn
 
 
 def main(argv=None):
@@ -392,6 +475,9 @@ def main(argv=None):
     ap.add_argument("--scene", nargs="+", choices=("oedometer", "triaxial", "chamber"))
     ap.add_argument("--reading", nargs="+", choices=sorted(READINGS))
     ap.add_argument("--np", type=int, default=1)
+    ap.add_argument("--rerun", action="store_true",
+                    help="run the selected pieces again even if done, replacing their records "
+                    "(e.g. --rerun --scene oedometer, for records made before a metric existed)")
     ap.add_argument("--carry", action="store_true",
                     help="pack every killed chamber piece's resumable state into carry/ (commit it)")
     a = ap.parse_args(argv)
@@ -409,8 +495,8 @@ def main(argv=None):
             print("carried %s at restart step %s (%.1f MB)" % (name, step, mb))
         return 0
     if a.table:
-        table = rows(data, printed_references(evr.load(EVR_RESULTS)))
         refs = printed_references(evr.load(EVR_RESULTS))
+        table = rows(data, refs)
         write_table(table, os.path.join(HERE, "results_table.md"),
                     _mean([r["metrics"].get("qc_steady_MPa") for r in refs["chamber_rigid"]]))
         with open(os.path.join(HERE, "results_table.json"), "w") as f:
@@ -421,9 +507,15 @@ def main(argv=None):
         drawn = draw_maps(events)
         if drawn:
             print("wrote %s (%s)" % (MAPS_PNG, ", ".join(drawn)))
+        drawn = draw_oedometer_curves(data)
+        if drawn:
+            print("wrote %s (%s)" % (OEDO_PNG, ", ".join(drawn)))
+        drawn = draw_triaxial_curves(data)
+        if drawn:
+            print("wrote %s (%s)" % (TRIAX_PNG, ", ".join(drawn)))
         return 0
     for p in todo:
-        if p["name"] in data["runs"]:
+        if p["name"] in data["runs"] and not a.rerun:
             continue
         print("criterion readings: running %s" % p["name"], flush=True)
         rec = run(p, a.np)

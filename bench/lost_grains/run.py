@@ -39,6 +39,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 
 import numpy as np  # noqa: E402
 
+from crushpost.breakage import GRAIN_MODELS  # noqa: E402
 from crushpost.chamber import write_chamber  # noqa: E402
 from crushpost.dump import read_dump  # noqa: E402
 from crushpost.meshes import read_stl, write_stl  # noqa: E402
@@ -93,7 +94,7 @@ def main(argv=None):
     p.add_argument("--sector", type=int, default=90, choices=[360, 180, 90])
     p.add_argument("--depth", type=float, default=0.08)
     p.add_argument("--v-push", type=float, default=1.0)
-    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--grains", default="crushable_ne34", choices=list(GRAIN_MODELS))
     p.add_argument("--prep-loops", type=int, default=40)
     p.add_argument("--servo-steps", type=int, default=20000)
     p.add_argument("--every", type=int, default=500, help="steps between tracking outputs")

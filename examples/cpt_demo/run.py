@@ -49,7 +49,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost.dump import read_crush_log  # noqa: E402
-from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
+from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS, effective_reading, grain_model_reading  # noqa: E402
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.materials import D_COMM_RATIO, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
@@ -144,8 +144,9 @@ def run_deck(a, out, tip_z0, progress=None, part=0, restart_file=None):
         v["d_scale_ref"] = a.d_scale_ref
     if a.d_comm_ratio != D_COMM_RATIO:
         v["d_comm_ratio"] = a.d_comm_ratio
-    if a.crush_reading != CRUSH_READING_PRINTED:
-        v["crush_reading"] = a.crush_reading
+    reading = grain_model_reading(a.grains, a.crush_reading)
+    if reading is not None:
+        v["crush_reading"] = reading
     if a.prep_only:
         v["jacking_block"] = "none"
     if getattr(a, "crush_in_prep", False):
@@ -369,7 +370,7 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         # a run in parts may change its rank count between them
         "core_s": wall * a.np if core_s is None else core_s, "mode": a.mode, "grains": a.grains, "N": a.N,
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
-        "plots": plots, "crush_reading": getattr(a, "crush_reading", CRUSH_READING_PRINTED),
+        "plots": plots, "crush_reading": effective_reading(a.grains, getattr(a, "crush_reading", CRUSH_READING_PRINTED)),
     }
     if zones is not None:
         summary["break_zones"] = zones
@@ -464,7 +465,10 @@ def main(argv=None):
     p.add_argument("--out", default=os.path.join(REPO, "results", "cpt_demo"))
     p.add_argument("--np", type=int, default=2)
     p.add_argument("--mode", default="cyclic", choices=["cyclic", "monotonic"])
-    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--grains", default="crushable_ne34", choices=list(GRAIN_MODELS),
+                   help="grain model (inputs/<name>.in, docs/grain_models.md): the printed "
+                   "crushable model, the same read with the peak contact pressure, or grains "
+                   "that do not break")
     p.add_argument("--N", type=float, default=39.0)
     p.add_argument("--R-ch", type=float, default=0.06, help="chamber radius (m)")
     p.add_argument("--H-ch", type=float, default=0.1, help="chamber height (m)")
@@ -535,6 +539,10 @@ def main(argv=None):
                    help="go on with the run in --out from its last restart file, with the "
                    "options of its first start (args.json) but --np, --proc-grid, --liggghts, --json")
     a = p.parse_args(argv)
+    try:
+        grain_model_reading(a.grains, a.crush_reading)
+    except ValueError as e:
+        p.error(str(e))
     if a.servo_steps is not None:
         a.servo_loops = max(1, -(-a.servo_steps // 2000))
     a.out = os.path.abspath(a.out)          # LIGGGHTS runs in --out: paths given to it are absolute

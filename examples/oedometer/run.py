@@ -23,7 +23,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import oedometer  # noqa: E402
-from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
+from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS, effective_reading, grain_model_reading  # noqa: E402
 from crushpost.dump import read_crush_log, read_dump  # noqa: E402
 from crushpost.materials import D_COMM_RATIO, D_MIN_BR, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402
@@ -61,8 +61,9 @@ def run_deck(args, out, R, H):
         v["d_scale_ref"] = args.d_scale_ref
     if args.d_comm_ratio != D_COMM_RATIO:
         v["d_comm_ratio"] = args.d_comm_ratio
-    if args.crush_reading != CRUSH_READING_PRINTED:
-        v["crush_reading"] = args.crush_reading
+    reading = grain_model_reading(args.grains, args.crush_reading)
+    if reading is not None:
+        v["crush_reading"] = reading
     return run_liggghts(os.path.join(HERE, "in.oedometer"), out, v, np=args.np,
                         binary=args.liggghts, name="oedometer")
 
@@ -100,7 +101,7 @@ def postprocess(args, out, wall, n0):
     load = stress["phase"] == 0
     summary = {
         "grains": args.grains, "tangential_model": args.tangential_model,
-        "crush_reading": args.crush_reading,
+        "crush_reading": effective_reading(args.grains, args.crush_reading),
         "N": args.N, "n_particles_initial": int(n0),
         "n_particles_final": int(stress["Atoms"][-1]),
         "porosity_start_of_loading": float(stress["e_void"][0] / (1 + stress["e_void"][0])),
@@ -122,6 +123,9 @@ def postprocess(args, out, wall, n0):
         # (and that of the first break), crushpost.oedometer.crushing_onset
         "sigma_v_crush_onset_MPa": oedometer.crushing_onset(stress, n0)[0] / 1e6,
         "sigma_v_first_break_MPa": oedometer.crushing_onset(stress, n0)[1] / 1e6,
+        # the loading branch on a log grid of sigma_v (e_core, e_void, Br), so
+        # that a study can draw several runs' curves without their logs
+        "loading_curve": oedometer.loading_curve(stress),
         "utilisation_at_MPa": None if util is None else
         {"%g" % (k / 1e6): v for k, v in util.items()},
         "fines_mass": float(stress["fines"][-1]), "wall_time_s": wall, "mpi_ranks": args.np,
@@ -145,7 +149,8 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=os.path.join(REPO, "results", "oedometer"))
     p.add_argument("--np", type=int, default=2, help="MPI ranks")
-    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--grains", default="crushable_ne34", choices=list(GRAIN_MODELS),
+                   help="grain model (inputs/<name>.in, docs/grain_models.md)")
     p.add_argument("--tangential-model", default="history", choices=["history", "incremental"],
                    help="tangential contact law of grain contacts and walls: LIGGGHTS' "
                    "displacement-based 'history' (default) or PFC's force-increment "
@@ -182,6 +187,10 @@ def main(argv=None):
     p.add_argument("--packing-seed", type=int, default=2024)
     p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")
     args = p.parse_args(argv)
+    try:
+        grain_model_reading(args.grains, args.crush_reading)
+    except ValueError as e:
+        p.error(str(e))
     os.makedirs(args.out, exist_ok=True)
     R, H, n0 = build(args, args.out)
     wall = run_deck(args, args.out, R, H)

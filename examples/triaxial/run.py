@@ -31,7 +31,7 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import triaxial  # noqa: E402
-from crushpost.breakage import CRUSH_READING_PRINTED  # noqa: E402
+from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS, effective_reading, grain_model_reading  # noqa: E402
 from crushpost.materials import D_COMM_RATIO, RHO_GRAIN, rayleigh_time  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402
@@ -70,7 +70,7 @@ def auto_dt(grains, N, d_placed_min, fraction=0.15):
     (radius 0.230093 d_comm / 2), otherwise the same as dt_prep.
     """
     dt_prep = fraction * rayleigh_time(0.5 * d_placed_min)
-    if grains == "crushable_ne34":
+    if GRAIN_MODELS[grains] is not None:
         r_frag = FRAGMENT_SMALL * 0.5 * D_COMM_D50 * D50_NE34 * N
         return min(dt_prep, fraction * rayleigh_time(r_frag)), dt_prep
     return dt_prep, dt_prep
@@ -112,17 +112,21 @@ def build(args, out):
 
 
 def liggghts_variables(args, W, H, dt, dt_prep):
-    return {"inputs": os.path.join(REPO, "inputs"), "N": args.N, "W": W, "H": H,
-            "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
-            "seed": args.seed, "dt": dt, "dt_prep": dt_prep, "p_iso": args.p_iso, "sigma3": args.sigma3,
-            "rate": args.rate, "eps_a_max": args.eps_a_max, "g_P": args.g_P, "g_I": args.g_I,
-            "e_u_max": args.e_u_max, "e_u_cons": args.e_u_cons,
-            "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
-            "chunk": args.chunk, "thermo_every": args.thermo_every,
-            "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
-            "D_loc_shear": args.D_loc, "rotation": int(args.rotation),
-            "tangential_model": args.tangential_model,
-            "incremental_shear": int(args.incremental_shear), "crush_reading": args.crush_reading}
+    v = {"inputs": os.path.join(REPO, "inputs"), "N": args.N, "W": W, "H": H,
+         "n_target": args.n_target, "s_prep": args.s_prep, "grain_model": args.grains,
+         "seed": args.seed, "dt": dt, "dt_prep": dt_prep, "p_iso": args.p_iso, "sigma3": args.sigma3,
+         "rate": args.rate, "eps_a_max": args.eps_a_max, "g_P": args.g_P, "g_I": args.g_I,
+         "e_u_max": args.e_u_max, "e_u_cons": args.e_u_cons,
+         "cons_tol": args.cons_tol, "cons_loops": args.cons_loops,
+         "chunk": args.chunk, "thermo_every": args.thermo_every,
+         "dump_every": args.dump_every, "n_expand_max": args.prep_loops,
+         "D_loc_shear": args.D_loc, "rotation": int(args.rotation),
+         "tangential_model": args.tangential_model,
+         "incremental_shear": int(args.incremental_shear)}
+    reading = grain_model_reading(args.grains, args.crush_reading)
+    if reading is not None:     # a named grain model sets its own (docs/grain_models.md)
+        v["crush_reading"] = reading
+    return v
 
 
 def run_deck(args, out, W, H, dt, dt_prep):
@@ -140,7 +144,8 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
     res = triaxial.analyse(path, sigma3=args.sigma3, cs_window=args.cs_window,
                            dil_window=args.dil_window, settle=args.settle)
     summary = {
-        "grains": args.grains, "cell": args.cell, "W_d50": args.W_d50, "H_d50": args.H_d50,
+        "grains": args.grains, "crush_reading": effective_reading(args.grains, args.crush_reading),
+        "cell": args.cell, "W_d50": args.W_d50, "H_d50": args.H_d50,
         "N": args.N, "n_particles_initial": int(n0),
         "n_particles_final": int(path["Atoms"][-1]), "mpi_ranks": args.np,
         "wall_time_s": wall, "dt": dt, "dt_prep": dt_prep, "axial_strain_rate": args.rate,
@@ -153,6 +158,9 @@ def postprocess(args, out, wall, n0, dt, dt_prep):
         "prep": prep_report(args, out),
         "e_start_of_shearing": float(path["e_void"][0]),
         "n_break_events": int(path["n_break"][-1]), "Br_final": float(path["Br"][-1]),
+        # q/p, eps_v and Br every 0.5 % of axial strain, so that a study can
+        # draw several runs' curves without their logs
+        "shear_curve": triaxial.shear_curve(path),
     }
     summary.update(res)
     triaxial.write_hdf5(os.path.join(out, "triaxial.h5"), path, summary)
@@ -174,7 +182,8 @@ def parse_args(argv=None):
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=os.path.join(REPO, "results", "triaxial"))
     p.add_argument("--np", type=int, default=2, help="MPI ranks")
-    p.add_argument("--grains", default="crushable_ne34", choices=["crushable_ne34", "unbreakable"])
+    p.add_argument("--grains", default="crushable_ne34", choices=list(GRAIN_MODELS),
+                   help="grain model (inputs/<name>.in, docs/grain_models.md)")
     p.add_argument("--crush-reading", default=CRUSH_READING_PRINTED,
                    help="keywords of the criterion reading given to fix crush/particle "
                    "(docs/fix_crush_particle.md, Criterion readings), e.g. 'pressure peak "
@@ -241,6 +250,10 @@ def parse_args(argv=None):
                    help="servo errors: averaged from this axial strain on")
     p.add_argument("--liggghts", default=None, help="LIGGGHTS binary (default build/liggghts)")
     args = p.parse_args(argv)
+    try:
+        grain_model_reading(args.grains, args.crush_reading)
+    except ValueError as e:
+        p.error(str(e))
     if args.e_u_max is None:
         args.e_u_max = 2.5 * args.rate
     if args.e_u_cons is None:

@@ -50,6 +50,7 @@ __all__ = [
     "psd_curve", "fractal_psd", "grading_integral", "fractal_grading_integral",
     "BreakFines", "break_fines", "bin_integrals", "limit_bin_integrals",
     "bounded_breakage_index", "Breakage", "breakage", "breakage_index",
+    "CRUSH_READING_PRINTED", "GRAIN_MODELS", "grain_model_reading", "effective_reading",
 ]
 
 #: Fractal dimension of the limit grading used in the calibration (docs/model.md §2.8).
@@ -59,6 +60,47 @@ W_FRACTAL = OMEGA          # crushpost.materials
 #: "Criterion readings"): the default of inputs/crushable_ne34.in's crush_reading
 #: (tests/python/test_true_mass.py checks the two agree).
 CRUSH_READING_PRINTED = "pressure mean force normal size_law printed scatter normal"
+
+#: The grain models of the decks (inputs/<name>.in; the drivers' --grains
+#: choices, docs/grain_models.md) -> the criterion reading the block gives fix
+#: crush/particle, or None for grains that do not break. A named model sets its
+#: reading itself: a driver must not pass crush_reading with it
+#: (tests/python/test_true_mass.py checks the blocks say the same).
+GRAIN_MODELS = {
+    "crushable_ne34": CRUSH_READING_PRINTED,
+    "crushable_ne34_peak": "pressure peak force normal size_law printed scatter normal",
+    "unbreakable": None,
+}
+
+def grain_model_reading(grains, crush_reading=CRUSH_READING_PRINTED):
+    """Check a driver's --grains and --crush-reading together. Returns the
+    crush_reading a deck must be given (None: leave the block's own). Raises
+    ValueError naming the option when the grain model is unknown, when
+    unbreakable grains are given a reading, or when a named model (one that
+    sets its own reading) is given another."""
+    if grains not in GRAIN_MODELS:
+        raise ValueError("--grains %s: not a grain model of the decks (%s)"
+                         % (grains, ", ".join(GRAIN_MODELS)))
+    given = crush_reading not in (None, "", CRUSH_READING_PRINTED)
+    if not given:
+        return None
+    if GRAIN_MODELS[grains] is None:
+        raise ValueError("--crush-reading '%s' with --grains %s: unbreakable grains have no "
+                         "criterion" % (crush_reading, grains))
+    if GRAIN_MODELS[grains] != CRUSH_READING_PRINTED:
+        raise ValueError("--crush-reading '%s' with --grains %s: this grain model sets its own "
+                         "reading (%s); use --grains crushable_ne34 with --crush-reading"
+                         % (crush_reading, grains, GRAIN_MODELS[grains]))
+    return crush_reading
+
+
+def effective_reading(grains, crush_reading=CRUSH_READING_PRINTED):
+    """The criterion reading a run with --grains `grains` and --crush-reading
+    `crush_reading` gives fix crush/particle (what its summary.json records):
+    the reading given, else the grain model's own; None for unbreakable grains.
+    Raises as grain_model_reading does."""
+    return grain_model_reading(grains, crush_reading) or GRAIN_MODELS[grains]
+
 
 #: Log-uniform bins of [d_min, d_max] for the bound (as the fix's kBrBins).
 N_BINS = 128

@@ -92,6 +92,30 @@ def loading_state_at(path, sv_targets, key="e_void"):
     return np.where(ok, out, np.nan)
 
 
+#: the loading curve a summary keeps (loading_curve): points per decade of sigma_v
+CURVE_POINTS_PER_DECADE = 8
+
+
+def loading_curve(path, sv_from=0.1e6, keys=("e_core", "e_void", "Br")):
+    """The loading branch sampled on a log grid of sigma_v, compact enough for
+    a summary or a study's record (curves of several runs drawn together):
+    {"sigma_v_MPa": [...], key: [...]} from `sv_from` (Pa) to the largest
+    stress reached, CURVE_POINTS_PER_DECADE points a decade, each value read
+    as loading_state_at reads it (first crossing); None where a value is NaN
+    (not reached, or a column the log lacks)."""
+    load = np.asarray(path["phase"]) == 0
+    sv_max = float(np.max(np.asarray(path["sv"], float)[load]))
+    if not sv_max > sv_from:
+        return {"sigma_v_MPa": [], **{k: [] for k in keys}}
+    n = int(np.ceil(np.log10(sv_max / sv_from) * CURVE_POINTS_PER_DECADE - 1e-9)) + 1
+    grid = np.geomspace(sv_from, sv_max, n)
+    out = {"sigma_v_MPa": (grid / 1e6).tolist()}
+    for k in keys:
+        y = loading_state_at(path, grid, key=k) if k in path else np.full(n, np.nan)
+        out[k] = [None if not np.isfinite(v) else float(v) for v in y]
+    return out
+
+
 def utilisation_at(snapshots, path, sv_targets, column="v_utilisation"):
     """The grains' utilisation (largest F_n / F_lim over their contacts,
     compute crush/atom) in the dump snapshot nearest to where the loading
@@ -162,7 +186,8 @@ def psd_snapshots(dump_pattern, density, sizes, fines_by_step=None, events=None,
 
 def write_hdf5(path, stress, psd=None, attrs=None):
     """HDF5 file: group 'path' (one dataset per column), group 'psd' (sizes,
-    steps, sv, F), root attributes from attrs (JSON-able values)."""
+    steps, sv, F), root attributes from attrs (JSON-able values; dicts, lists
+    and None stored as JSON strings: HDF5 has no null attribute)."""
     import h5py
     with h5py.File(path, "w") as h:
         g = h.create_group("path")
@@ -173,7 +198,7 @@ def write_hdf5(path, stress, psd=None, attrs=None):
             for k, v in psd.items():
                 p.create_dataset(k, data=v)
         for k, v in (attrs or {}).items():
-            h.attrs[k] = v if not isinstance(v, (dict, list)) else json.dumps(v)
+            h.attrs[k] = json.dumps(v) if v is None or isinstance(v, (dict, list)) else v
 
 
 def plot_all(out_dir, stress, psd=None, title=""):

@@ -196,12 +196,13 @@ def oedometer_metrics(summary):
     examples/oedometer/run.py): void ratio at 10 and 30 MPa on loading, of
     the core (farther than d50 from the walls: independent of the cell's
     width, docs/studies/calibration.md) and of the whole cell, Br at 30 MPa and at
-    the end. Keys a summary lacks (runs before e_core was written) are None."""
+    the end, and the loading curve (crushpost.oedometer.loading_curve). Keys
+    a summary lacks (runs before e_core or the curve was written) are None."""
     return {k: summary.get(k) for k in ("e_core_at_10MPa", "e_core_at_30MPa", "e_at_10MPa",
                                          "e_at_30MPa", "Br_at_10MPa", "Br_at_30MPa", "Br_final",
                                          "n_break_events", "porosity_start_of_loading",
                                          "sigma_v_crush_onset_MPa", "sigma_v_first_break_MPa",
-                                         "utilisation_at_MPa")}
+                                         "utilisation_at_MPa", "loading_curve")}
 
 
 # ---------------------------------------------------------------------------

@@ -255,16 +255,40 @@ def analyse(path, sigma3, cs_window=0.05, dil_window=0.02, settle=0.01):
     }
 
 
+#: the shearing curve a summary keeps (shear_curve): spacing of axial strain
+CURVE_EPS_STEP = 0.005
+
+
+def shear_curve(path, step=CURVE_EPS_STEP, keys=("eta", "eps_v", "Br")):
+    """The shearing path sampled every `step` of axial strain, compact enough
+    for a summary or a study's record (curves of several runs drawn together):
+    {"eps_a": [0, step, ...], key: [...]} up to the largest axial strain
+    reached, each value interpolated linearly in eps_a (which only grows under
+    strain control); None where the path lacks a column."""
+    ea = np.maximum.accumulate(np.asarray(path["eps_a"], float))
+    grid = np.arange(0.0, ea[-1] + 0.5 * step, step)
+    grid = grid[grid <= ea[-1]]
+    out = {"eps_a": [round(float(g), 12) for g in grid]}
+    for k in keys:
+        if k not in path:
+            out[k] = [None] * grid.size
+            continue
+        y = np.interp(grid, ea, np.asarray(path[k], float), left=np.nan)
+        out[k] = [None if not np.isfinite(v) else float(v) for v in y]
+    return out
+
+
 def write_hdf5(path_h5, path, attrs=None):
     """HDF5 file: group 'shear' (one dataset per column of the path), root
-    attributes from ``attrs`` (dicts and lists stored as JSON strings)."""
+    attributes from ``attrs`` (dicts, lists and None stored as JSON strings:
+    HDF5 has no null attribute)."""
     import h5py
     with h5py.File(path_h5, "w") as h:
         g = h.create_group("shear")
         for k, v in path.items():
             g.create_dataset(k, data=np.asarray(v))
         for k, v in (attrs or {}).items():
-            h.attrs[k] = json.dumps(v) if isinstance(v, (dict, list)) else v
+            h.attrs[k] = json.dumps(v) if v is None or isinstance(v, (dict, list)) else v
 
 
 def plot_all(out_dir, path, res=None, title=""):

@@ -20,6 +20,10 @@ b. Utilisation: one grain held (not integrated) between two steel planes
    0.5 (printed reading) and 0.5 * 27/8 (peak pressure), to 1e-9; its other
    columns are the strength, the generation and the true mass. Under density
    scaling the true mass stays the sphere's mass while `mass` is scaled.
+   The named grain models inputs/crushable_ne34.in and crushable_ne34_peak.in
+   on the same held grain: F_n over the F_lim of the grain's own drawn
+   strength, the peak model's 27/8 times the printed one's; a crush_reading
+   given with the peak model stops the run.
 c. Atom-style variables of inputs/crushable_ne34.in: v_sigma_lim and
    v_generation are per particle (the fix's per-atom values, differing
    between grains), not the fix's global vector; the same in a dump, a VTK
@@ -114,7 +118,11 @@ D_HELD = 1.0e-3
 D_SMALL = 0.5e-3     # a second grain beside it, touching nothing
 
 
-def _held_deck(fraction, extra, N=1):
+def _held_deck(fraction, extra, N=1, grain_block=None):
+    """One grain held between two steel planes with the overlap of `fraction`
+    of its mean-strength limit force, a second grain touching nothing; fix
+    crush/particle as crush_fix(extra) writes it, or, with `grain_block`, as
+    that block of inputs/ defines it (its own calibrated values and scatter)."""
     r = D_HELD / 2
     sigma = float(cd.strength(D_HELD, N))
     es = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, cd.E_STEEL, cd.NU_STEEL)
@@ -129,7 +137,12 @@ set atom 2 diameter {D_SMALL!r} density {cd.DENSITY!r}
 fix bottom all wall/gran model hertz tangential history primitive type 2 zplane 0.0
 fix top all wall/gran model hertz tangential history primitive type 2 zplane {D_HELD - 2 * delta!r}
 """
-    text += cd.crush_fix(scale=N, var=0.0, d_comm=1e-4, extra=extra)
+    if grain_block is None:
+        text += cd.crush_fix(scale=N, var=0.0, d_comm=1e-4, extra=extra)
+    else:
+        text += (f"variable inputs index {harness.REPO / 'inputs'}\nvariable N index {N}\n"
+                 f"variable seed index {cd.SEED}\nvariable crush_events index events.txt\n"
+                 f"{extra or ''}include ${{inputs}}/{grain_block}.in\n")
     text += """\
 compute ca all crush/atom crush
 dump d all custom 1 held.txt id mass c_ca[1] c_ca[2] c_ca[3] c_ca[4]
@@ -158,6 +171,32 @@ def test_utilisation_of_a_grain_at_half_its_limit(tmp_path, extra, expect_factor
         np.testing.assert_allclose(frame["mass"], (2e-3 / d) ** 2 * m_true, rtol=1e-12)
     else:
         np.testing.assert_allclose(frame["mass"], m_true, rtol=1e-12)
+
+
+def test_named_grain_models_read_the_criterion_they_name(tmp_path):
+    """inputs/crushable_ne34.in and crushable_ne34_peak.in on the same held
+    grain (same seed: the same strength drawn): utilisation F_n / F_lim of the
+    grain's own strength, and the peak model's 3.375 times the printed one's."""
+    u = {}
+    for model, k in (("crushable_ne34", 1.0), ("crushable_ne34_peak", PEAK)):
+        res = cd.run(_held_deck(0.01, None, grain_block=model), tmp_path / model)
+        (frame,) = harness.read_dump(res.path("held.txt"))
+        sigma_own = frame["c_ca[1]"][0]
+        es = cd.effective_modulus(cd.E_GRAIN, cd.NU_GRAIN, cd.E_STEEL, cd.NU_STEEL)
+        r = D_HELD / 2
+        F_n = 0.01 * cd.limit_force(float(cd.strength(D_HELD, 1)), r, es)
+        assert frame["c_ca[4]"][0] == pytest.approx(F_n / (k * cd.limit_force(sigma_own, r, es)),
+                                                    rel=1e-9)
+        u[model] = frame["c_ca[4]"][0]
+    assert u["crushable_ne34_peak"] / u["crushable_ne34"] == pytest.approx(1.0 / PEAK, rel=1e-12)
+
+
+def test_named_grain_model_refuses_a_reading_of_its_own(tmp_path):
+    # the block sets crush_reading itself; a user's -var (an index variable)
+    # stops the run instead of being obeyed or ignored silently
+    deck = _held_deck(0.01, 'variable crush_reading index "scatter weibull"\n',
+                      grain_block="crushable_ne34_peak")
+    cd.expect_error(deck, tmp_path, "Cannot redefine variable as a different style")
 
 
 # ---------------------------------------------------------------------------

@@ -19,6 +19,7 @@ To add a number: quote it in the doc, add an entry here, and run
 
 import functools
 import json
+import re
 import statistics
 from pathlib import Path
 
@@ -316,6 +317,103 @@ ENTRIES += [
         ("chamber_peak_seed2024", r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
          "Br_penetrated_2_3R", 1.0),
     )
+]
+
+# the peak reading's second seed and the two seeds together (the study's Status)
+_P25 = "chamber_peak_seed2025"
+
+
+def _cr_mean_qc(*names):
+    return lambda d: statistics.mean(d["runs"][n]["metrics"]["qc_steady_MPa"] for n in names)
+
+
+def _cr_ratio_of_mean(*names):
+    return lambda d: _cr_unbreakable_qc() / _cr_mean_qc(*names)(d)
+
+
+_PEAKS = ("chamber_peak_seed2024", _P25)
+ENTRIES += [
+    N(_CR_DOC, pattern, CR, value) for pattern, value in (
+        (r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", _cr_piece(_P25, "qc_steady_MPa")),
+        (r"a ratio of ([\d.]+) to the\s+unbreakable reference; 153", _cr_ratio(_P25)),
+        (r"reference; (\d+) break events: 36 at switch-on", _cr_piece(_P25, "n_break_events")),
+        (r"153 break events: (\d+) at switch-on, 26", _cr_piece(_P25, "events_switch_on")),
+        (r"36 at switch-on, (\d+) at entry, and", _cr_piece(_P25, "events_entry")),
+        (r"of the (\d+) during penetration 44", _cr_piece(_P25, "events_penetration")),
+        (r"during penetration (\d+) in the zone \(48", _cr_piece(_P25, "events_in_zone")),
+        (r"in the zone \((\d+) %\), 19 beyond", _cr_piece(_P25, "fraction_in_zone", 100.0)),
+        (r"\(48 %\), (\d+) beyond 5 R", _cr_piece(_P25, "events_beyond_5R_below")),
+        (r"Br is ([\d.]+) in 1-2 R\s+and 0.024", _cr_piece(_P25, "Br_penetrated_1_2R")),
+        (r"0.123 in 1-2 R\s+and ([\d.]+) in 2-3 R\. The two", _cr_piece(_P25, "Br_penetrated_2_3R")),
+        (r"1.43 and 1.31, is ([\d.]+) on the seeds' mean", _cr_ratio_of_mean(*_PEAKS)),
+        (r"on the seeds' mean q_c \(([\d.]+) MPa\)", _cr_mean_qc(*_PEAKS)),
+        (r"the peak reading's mean q_c is (\d+) % below",
+         lambda d: 100.0 * (1.0 - _cr_mean_qc(*_PEAKS)(d) / _cr_mean_qc("chamber_printed_seed2024")(d))),
+    )
+]
+
+# docs/grain_models.md: its table, printed against peak, from the study's records
+_GM_DOC = "docs/grain_models.md"
+
+
+def _gm_cell(label, k):
+    """The k-th number (from 0) in the cells of the table row `label`."""
+    # re.escape escapes spaces, which the test turns into runs of whitespace
+    return (r"\| " + re.escape(label).replace("\\ ", " ") + r" \|" + r"(?:[^\d\n]*[\d.]+){%d}" % k
+            + r"[^\d\n]*([\d.]+)")
+
+
+_GM_ROWS = {
+    "chamber: steady q_c (MPa)": [_cr_printed("qc_steady_MPa"),
+                                  _cr_piece("chamber_peak_seed2024", "qc_steady_MPa"),
+                                  _cr_piece(_P25, "qc_steady_MPa")],
+    "chamber: unbreakable / crushable q_c": [_cr_ratio("chamber_printed_seed2024"),
+                                             _cr_ratio("chamber_peak_seed2024"), _cr_ratio(_P25),
+                                             _cr_ratio_of_mean(*_PEAKS)],
+    "chamber: penetration breaks in the zone (r < 3 R, -5 R < h < 1.73 R)": [
+        _cr_printed("fraction_in_zone", 100.0),
+        _cr_piece("chamber_peak_seed2024", "fraction_in_zone", 100.0),
+        _cr_piece(_P25, "fraction_in_zone", 100.0)],
+    "chamber: breaks beyond 5 R below the tip / along the shaft": [
+        _cr_printed("events_beyond_5R_below"), _cr_printed("events_along_shaft"),
+        _cr_piece("chamber_peak_seed2024", "events_beyond_5R_below"),
+        _cr_piece(_P25, "events_beyond_5R_below"),
+        _cr_piece("chamber_peak_seed2024", "events_along_shaft"),
+        _cr_piece(_P25, "events_along_shaft")],
+    "chamber: breaks at switch-on": [_cr_printed("events_switch_on"),
+                                     _cr_piece("chamber_peak_seed2024", "events_switch_on"),
+                                     _cr_piece(_P25, "events_switch_on")],
+    "chamber: Br over the penetrated layers, 1-2 R": [
+        _cr_printed("Br_penetrated_1_2R"), _cr_piece("chamber_peak_seed2024", "Br_penetrated_1_2R"),
+        _cr_piece(_P25, "Br_penetrated_1_2R")],
+    "oedometer: core void ratio at 10 MPa": [_cr_piece("oedometer_printed", "e_core_at_10MPa"),
+                                             _cr_piece("oedometer_peak", "e_core_at_10MPa")],
+    "oedometer: core void ratio at 30 MPa": [_cr_piece("oedometer_printed", "e_core_at_30MPa"),
+                                             _cr_piece("oedometer_peak", "e_core_at_30MPa")],
+    "oedometer: 1 % of the grains broken at (MPa)": [
+        _cr_piece("oedometer_printed", "sigma_v_crush_onset_MPa"),
+        _cr_piece("oedometer_peak", "sigma_v_crush_onset_MPa")],
+    "oedometer: Br at 30 MPa": [_cr_piece("oedometer_printed", "Br_at_30MPa"),
+                                _cr_piece("oedometer_peak", "Br_at_30MPa")],
+    "triaxial: phi_cs (deg)": [_cr_piece(n, "phi_cs_deg") for n in (
+        "triaxial_printed", "triaxial_printed_seed2025", "triaxial_peak", "triaxial_peak_seed2025")],
+    "triaxial: phi_peak (deg)": [_cr_piece(n, "phi_peak_deg") for n in (
+        "triaxial_printed", "triaxial_printed_seed2025", "triaxial_peak", "triaxial_peak_seed2025")],
+}
+ENTRIES += [N(_GM_DOC, _gm_cell(label, k), CR, value)
+            for label, values in _GM_ROWS.items() for k, value in enumerate(values)]
+ENTRIES += [
+    N(_GM_DOC, r"pooled unbreakable reference, ([\d.]+) MPa", CR, lambda d: _cr_unbreakable_qc()),
+    N(_GM_DOC, r"seeds agree on the crushing and differ in q_c by (\d+) %", CR,
+      lambda d: 100.0 * (d["runs"][_P25]["metrics"]["qc_steady_MPa"]
+                         / d["runs"]["chamber_peak_seed2024"]["metrics"]["qc_steady_MPa"] - 1.0)),
+]
+
+# the printed reading's ratio as the README and model.md quote it ("about N % more")
+ENTRIES += [
+    N(doc, pattern, CR, lambda d: 100.0 * (_cr_ratio("chamber_printed_seed2024")(d) - 1.0))
+    for doc, pattern in (("README.md", r"resists only about (\d+) % more than crushable"),
+                         ("docs/model.md", r"resists only\s+about (\d+) % more than crushable"))
 ]
 
 FACTS = [

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-2.0-or-later
-"""The criterion-readings study's breakage maps (bench/criterion_readings/run.py
+"""The criterion-readings study's figures (bench/criterion_readings/run.py
 --table): the events kept from each chamber piece's report and the split
-into penetration events, on synthetic reports with known answers."""
+into penetration events, the maps, and the oedometer and triaxial curves,
+on synthetic records with known answers."""
 
 import json
 
@@ -59,3 +60,32 @@ def test_maps_pool_the_seeds_of_a_reading(cr, tmp_path):
     png = tmp_path / "maps.png"
     assert cr.draw_maps(events, path=str(png)) == ["printed", "peak"]
     assert png.stat().st_size > 1000
+
+
+def test_oedometer_curves_drawn_only_for_records_that_keep_one(cr, tmp_path):
+    # printed and peak keep a curve, weibull's record predates it, sliding's
+    # curve is empty (never reached 0.1 MPa): two readings drawn, in READINGS order
+    curve = {"sigma_v_MPa": [0.1, 1.0, 10.0], "e_core": [None, 0.6, 0.5], "Br": [None, 0.0, 0.1]}
+    runs = {"oedometer_peak": {"metrics": {"loading_curve": curve}},
+            "oedometer_printed": {"metrics": {"loading_curve": curve}},
+            "oedometer_weibull": {"metrics": {"Br_at_30MPa": 0.1}},
+            "oedometer_sliding": {"metrics": {"loading_curve": {"sigma_v_MPa": [], "e_core": [],
+                                                                "Br": []}}}}
+    png = tmp_path / "oedo.png"
+    assert cr.draw_oedometer_curves({"runs": runs}, path=str(png)) == ["printed", "peak"]
+    assert png.stat().st_size > 1000
+    assert cr.draw_oedometer_curves({"runs": {}}, path=str(tmp_path / "none.png")) == []
+
+
+def test_triaxial_curves_drawn_for_each_reading_with_a_curve(cr, tmp_path):
+    # peak has a curve for seed 2025 only, printed for both, weibull none
+    curve = {"eps_a": [0.0, 0.005, 0.01], "eta": [0.0, 0.8, 1.1], "eps_v": [0.0, 0.001, 0.0],
+             "Br": [0.0, 0.0, 0.0]}
+    runs = {"triaxial_printed": {"metrics": {"shear_curve": curve}},
+            "triaxial_printed_seed2025": {"metrics": {"shear_curve": curve}},
+            "triaxial_peak_seed2025": {"metrics": {"shear_curve": curve}},
+            "triaxial_weibull": {"metrics": {"phi_cs_deg": 33.0}}}
+    png = tmp_path / "tri.png"
+    assert cr.draw_triaxial_curves({"runs": runs}, path=str(png)) == ["printed", "peak"]
+    assert png.stat().st_size > 1000
+    assert cr.draw_triaxial_curves({"runs": {}}, path=str(tmp_path / "none.png")) == []

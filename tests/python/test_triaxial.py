@@ -197,11 +197,13 @@ def test_hdf5_and_plots(tmp_path):
     path = synthetic_path()
     r = tx.analyse(path, SIGMA3)
     f = tmp_path / "t.h5"
-    tx.write_hdf5(str(f), path, {"N": 39.0, "res": r})
+    # crush_reading is None for unbreakable grains: HDF5 has no null attribute
+    tx.write_hdf5(str(f), path, {"N": 39.0, "res": r, "crush_reading": None})
     with h5py.File(str(f), "r") as h:
         np.testing.assert_array_equal(h["shear/eps_a"][()], path["eps_a"])
         assert json.loads(h.attrs["res"])["eta_cs"] == pytest.approx(1.2)
         assert h.attrs["N"] == 39.0
+        assert json.loads(h.attrs["crush_reading"]) is None
     files = tx.plot_all(str(tmp_path), path, r, "synthetic")
     assert [f.rsplit("/", 1)[-1] for f in files] == ["q_p_eps_a.png", "stress_path.png"]
     for name in files:
@@ -298,3 +300,20 @@ def test_read_local_dump(tmp_path):
     (tmp_path / "bad.txt").write_text("hello\n")
     with pytest.raises(ValueError):
         tx.read_local_dump(str(tmp_path / "bad.txt"))
+
+
+def test_shear_curve_samples_every_half_percent_of_axial_strain():
+    # eta = 1.2 eps_a / (0.01 + eps_a) and eps_v = 0.5 eps_a - 10 eps_a^2 on a
+    # fine, uneven eps_a grid to 0.123, with a repeated point (a pause of the
+    # servo) and a small strain reversal that the running maximum removes
+    ea = np.sort(np.r_[np.linspace(0.0, 0.123, 4001), 0.05])
+    ea[2000] -= 1e-7
+    path = {"eps_a": ea, "eta": 1.2 * ea / (0.01 + ea), "eps_v": 0.5 * ea - 10 * ea ** 2}
+    c = tx.shear_curve(path, keys=("eta", "eps_v", "Br"))
+    g = np.array(c["eps_a"])
+    assert g.size == 25 and g[0] == 0.0 and g[-1] == pytest.approx(0.12)
+    assert np.allclose(np.diff(g), tx.CURVE_EPS_STEP)
+    assert np.allclose(c["eta"], 1.2 * g / (0.01 + g), atol=1e-4)
+    assert np.allclose(c["eps_v"], 0.5 * g - 10 * g ** 2, atol=1e-6)
+    assert c["Br"] == [None] * g.size
+    json.dumps(c)

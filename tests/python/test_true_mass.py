@@ -102,6 +102,46 @@ def test_printed_reading_is_the_decks_default():
     assert m and m.group(1) == CRUSH_READING_PRINTED
 
 
+def test_grain_models_are_the_deck_blocks_and_their_readings():
+    """Every name of crushpost's GRAIN_MODELS is a block under inputs/; a
+    named crushable model sets the reading GRAIN_MODELS gives it (string
+    style, so that no -var can override it silently) and then includes
+    crushable_ne34.in; unbreakable.in defines no fix crush."""
+    import re
+    from pathlib import Path
+    from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS
+    inputs = Path(__file__).resolve().parents[2] / "inputs"
+    for name, reading in GRAIN_MODELS.items():
+        deck = (inputs / (name + ".in")).read_text()
+        code = "\n".join(line for line in deck.splitlines() if not line.startswith("#"))
+        if reading is None:
+            assert "crush/particle" not in code, name
+        elif name != "crushable_ne34":
+            m = re.search(r'^variable crush_reading string "([^"]*)"$', code, re.M)
+            assert m and m.group(1) == reading, name
+            assert reading != CRUSH_READING_PRINTED
+            assert code.strip().endswith("include ${inputs}/crushable_ne34.in"), name
+
+
+def test_grain_model_reading_rejects_what_a_deck_would_ignore_or_refuse():
+    from crushpost.breakage import CRUSH_READING_PRINTED, grain_model_reading
+    assert grain_model_reading("crushable_ne34") is None
+    assert grain_model_reading("crushable_ne34", "pressure peak") == "pressure peak"
+    assert grain_model_reading("crushable_ne34_peak", CRUSH_READING_PRINTED) is None
+    assert grain_model_reading("unbreakable", "") is None
+    with pytest.raises(ValueError, match="--grains crushable: not a grain model"):
+        grain_model_reading("crushable")
+    with pytest.raises(ValueError, match="sets its own reading"):
+        grain_model_reading("crushable_ne34_peak", "scatter weibull")
+    with pytest.raises(ValueError, match="unbreakable grains have no criterion"):
+        grain_model_reading("unbreakable", "pressure peak")
+    from crushpost.breakage import GRAIN_MODELS, effective_reading
+    assert effective_reading("crushable_ne34") == CRUSH_READING_PRINTED
+    assert effective_reading("crushable_ne34", "force sliding") == "force sliding"
+    assert effective_reading("crushable_ne34_peak") == GRAIN_MODELS["crushable_ne34_peak"]
+    assert effective_reading("unbreakable") is None
+
+
 def test_utilisation_at_picks_the_snapshot_at_each_stress():
     from crushpost.oedometer import utilisation_at
     path = {"Step": np.array([0, 100, 200, 300, 400]), "phase": np.array([0, 0, 0, 0, 1]),
