@@ -49,7 +49,8 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost.dump import read_crush_log  # noqa: E402
-from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS, effective_reading, grain_model_reading  # noqa: E402
+from crushpost.breakage import (CRUSH_READING_PRINTED, GRAIN_MODELS,  # noqa: E402
+                                effective_reading, grain_model_reading)
 from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.materials import D_COMM_RATIO, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
@@ -370,7 +371,8 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
         # a run in parts may change its rank count between them
         "core_s": wall * a.np if core_s is None else core_s, "mode": a.mode, "grains": a.grains, "N": a.N,
         "R_pile_m": a.R_pile, "R_chamber_m": a.R_ch, "H_chamber_m": a.H_ch, "sector_deg": a.sector,
-        "plots": plots, "crush_reading": effective_reading(a.grains, getattr(a, "crush_reading", CRUSH_READING_PRINTED)),
+        "plots": plots,
+        "crush_reading": effective_reading(a.grains, getattr(a, "crush_reading", CRUSH_READING_PRINTED)),
     }
     if zones is not None:
         summary["break_zones"] = zones

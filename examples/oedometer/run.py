@@ -23,7 +23,8 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import oedometer  # noqa: E402
-from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS, effective_reading, grain_model_reading  # noqa: E402
+from crushpost.breakage import (CRUSH_READING_PRINTED, GRAIN_MODELS,  # noqa: E402
+                                effective_reading, grain_model_reading)
 from crushpost.dump import read_crush_log, read_dump  # noqa: E402
 from crushpost.materials import D_COMM_RATIO, D_MIN_BR, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import write_plate_stl  # noqa: E402

@@ -31,7 +31,8 @@ sys.path.insert(0, os.path.join(REPO, "scripts"))
 import numpy as np  # noqa: E402
 
 from crushpost import triaxial  # noqa: E402
-from crushpost.breakage import CRUSH_READING_PRINTED, GRAIN_MODELS, effective_reading, grain_model_reading  # noqa: E402
+from crushpost.breakage import (CRUSH_READING_PRINTED, GRAIN_MODELS,  # noqa: E402
+                                effective_reading, grain_model_reading)
 from crushpost.materials import D_COMM_RATIO, RHO_GRAIN, rayleigh_time  # noqa: E402
 from crushpost.meshes import write_rectangle_stl  # noqa: E402
 from crushpost.packing import D50_NE34, ne34_diameters, rsa_box, write_lammps_data  # noqa: E402

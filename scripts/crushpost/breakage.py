@@ -72,6 +72,7 @@ GRAIN_MODELS = {
     "unbreakable": None,
 }
 
+
 def grain_model_reading(grains, crush_reading=CRUSH_READING_PRINTED):
     """Check a driver's --grains and --crush-reading together. Returns the
     crush_reading a deck must be given (None: leave the block's own). Raises
