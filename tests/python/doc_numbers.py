@@ -352,6 +352,25 @@ ENTRIES += [
     )
 ]
 
+# the Weibull reading's first chamber seed (the study's Status)
+_W24 = "chamber_weibull_seed2024"
+ENTRIES += [
+    N(_CR_DOC, pattern, CR, value) for pattern, value in (
+        (r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09", _cr_piece(_W24, "qc_steady_MPa")),
+        (r"a ratio of ([\d.]+) to the unbreakable reference; 38", _cr_ratio(_W24)),
+        (r"reference; (\d+) break\s+events: 3 at switch-on", _cr_piece(_W24, "n_break_events")),
+        (r"38 break\s+events: (\d+) at switch-on, 6", _cr_piece(_W24, "events_switch_on")),
+        (r"3 at switch-on, (\d+) at entry, and of the 29", _cr_piece(_W24, "events_entry")),
+        (r"of the (\d+) during penetration 18", _cr_piece(_W24, "events_penetration")),
+        (r"during penetration (\d+) in\s+the zone \(62", _cr_piece(_W24, "events_in_zone")),
+        (r"the zone \((\d+) %\), none beyond 5 R", _cr_piece(_W24, "fraction_in_zone", 100.0)),
+        (r"layers Br is ([\d.]+) in 1-2 R and 0.014",
+         _cr_piece(_W24, "Br_penetrated_1_2R")),
+        (r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", _cr_piece(_W24, "Br_penetrated_2_3R")),
+        (r"reached a ratio of only ([\d.]+) in the", _cr_ratio(_W24)),
+    )
+]
+
 # docs/grain_models.md: its table, printed against peak, from the study's records
 _GM_DOC = "docs/grain_models.md"
 
