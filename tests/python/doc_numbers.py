@@ -319,7 +319,8 @@ ENTRIES += [
     )
 ]
 
-# the peak reading's second seed and the two seeds together (the study's Status)
+# the peak reading's second seed, the two seeds together, and the Weibull reading's first
+# seed (the study's Status)
 _P25 = "chamber_peak_seed2025"
 
 
@@ -332,6 +333,7 @@ def _cr_ratio_of_mean(*names):
 
 
 _PEAKS = ("chamber_peak_seed2024", _P25)
+_W24 = "chamber_weibull_seed2024"
 ENTRIES += [
     N(_CR_DOC, pattern, CR, value) for pattern, value in (
         (r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", _cr_piece(_P25, "qc_steady_MPa")),
@@ -349,13 +351,7 @@ ENTRIES += [
         (r"on the seeds' mean q_c \(([\d.]+) MPa\)", _cr_mean_qc(*_PEAKS)),
         (r"the peak reading's mean q_c is (\d+) % below",
          lambda d: 100.0 * (1.0 - _cr_mean_qc(*_PEAKS)(d) / _cr_mean_qc("chamber_printed_seed2024")(d))),
-    )
-]
-
-# the Weibull reading's first chamber seed (the study's Status)
-_W24 = "chamber_weibull_seed2024"
-ENTRIES += [
-    N(_CR_DOC, pattern, CR, value) for pattern, value in (
+        # the Weibull reading's first chamber seed
         (r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09", _cr_piece(_W24, "qc_steady_MPa")),
         (r"a ratio of ([\d.]+) to the unbreakable reference; 38", _cr_ratio(_W24)),
         (r"reference; (\d+) break\s+events: 3 at switch-on", _cr_piece(_W24, "n_break_events")),
