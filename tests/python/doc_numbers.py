@@ -319,9 +319,38 @@ ENTRIES += [
     )
 ]
 
-# the peak reading's second seed, the two seeds together, and the Weibull reading's first
-# seed (the study's Status)
+# the peak reading's second seed and the Weibull reading's first (the study's
+# Status), as rows of the table above, then the peak reading's two seeds together
 _P25 = "chamber_peak_seed2025"
+_W24 = "chamber_weibull_seed2024"
+_PEAKS = ("chamber_peak_seed2024", _P25)
+ENTRIES += [
+    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+    for piece, pattern, key, scale in (
+        (_P25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", "qc_steady_MPa", 1.0),
+        (_P25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 153", "ratio", 1.0),
+        (_P25, r"reference; (\d+) break events: 36 at switch-on", "n_break_events", 1.0),
+        (_P25, r"153 break events: (\d+) at switch-on, 26", "events_switch_on", 1.0),
+        (_P25, r"36 at switch-on, (\d+) at entry, and", "events_entry", 1.0),
+        (_P25, r"of the (\d+) during penetration 44", "events_penetration", 1.0),
+        (_P25, r"during penetration (\d+) in the zone \(48", "events_in_zone", 1.0),
+        (_P25, r"in the zone \((\d+) %\), 19 beyond", "fraction_in_zone", 100.0),
+        (_P25, r"\(48 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+        (_P25, r"Br is ([\d.]+) in 1-2 R\s+and 0.024", "Br_penetrated_1_2R", 1.0),
+        (_P25, r"0.123 in 1-2 R\s+and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
+        (_W24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09", "qc_steady_MPa", 1.0),
+        (_W24, r"a ratio of ([\d.]+) to the unbreakable reference; 38", "ratio", 1.0),
+        (_W24, r"reference; (\d+) break\s+events: 3 at switch-on", "n_break_events", 1.0),
+        (_W24, r"38 break\s+events: (\d+) at switch-on, 6", "events_switch_on", 1.0),
+        (_W24, r"3 at switch-on, (\d+) at entry, and of the 29", "events_entry", 1.0),
+        (_W24, r"of the (\d+) during penetration 18", "events_penetration", 1.0),
+        (_W24, r"during penetration (\d+) in\s+the zone \(62", "events_in_zone", 1.0),
+        (_W24, r"the zone \((\d+) %\), none beyond 5 R", "fraction_in_zone", 100.0),
+        (_W24, r"layers Br is ([\d.]+) in 1-2 R and 0.014", "Br_penetrated_1_2R", 1.0),
+        (_W24, r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", "Br_penetrated_2_3R", 1.0),
+        (_W24, r"reached a ratio of only ([\d.]+) in the", "ratio", 1.0),
+    )
+]
 
 
 def _cr_mean_qc(*names):
@@ -332,39 +361,11 @@ def _cr_ratio_of_mean(*names):
     return lambda d: _cr_unbreakable_qc() / _cr_mean_qc(*names)(d)
 
 
-_PEAKS = ("chamber_peak_seed2024", _P25)
-_W24 = "chamber_weibull_seed2024"
 ENTRIES += [
-    N(_CR_DOC, pattern, CR, value) for pattern, value in (
-        (r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", _cr_piece(_P25, "qc_steady_MPa")),
-        (r"a ratio of ([\d.]+) to the\s+unbreakable reference; 153", _cr_ratio(_P25)),
-        (r"reference; (\d+) break events: 36 at switch-on", _cr_piece(_P25, "n_break_events")),
-        (r"153 break events: (\d+) at switch-on, 26", _cr_piece(_P25, "events_switch_on")),
-        (r"36 at switch-on, (\d+) at entry, and", _cr_piece(_P25, "events_entry")),
-        (r"of the (\d+) during penetration 44", _cr_piece(_P25, "events_penetration")),
-        (r"during penetration (\d+) in the zone \(48", _cr_piece(_P25, "events_in_zone")),
-        (r"in the zone \((\d+) %\), 19 beyond", _cr_piece(_P25, "fraction_in_zone", 100.0)),
-        (r"\(48 %\), (\d+) beyond 5 R", _cr_piece(_P25, "events_beyond_5R_below")),
-        (r"Br is ([\d.]+) in 1-2 R\s+and 0.024", _cr_piece(_P25, "Br_penetrated_1_2R")),
-        (r"0.123 in 1-2 R\s+and ([\d.]+) in 2-3 R\. The two", _cr_piece(_P25, "Br_penetrated_2_3R")),
-        (r"1.43 and 1.31, is ([\d.]+) on the seeds' mean", _cr_ratio_of_mean(*_PEAKS)),
-        (r"on the seeds' mean q_c \(([\d.]+) MPa\)", _cr_mean_qc(*_PEAKS)),
-        (r"the peak reading's mean q_c is (\d+) % below",
-         lambda d: 100.0 * (1.0 - _cr_mean_qc(*_PEAKS)(d) / _cr_mean_qc("chamber_printed_seed2024")(d))),
-        # the Weibull reading's first chamber seed
-        (r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09", _cr_piece(_W24, "qc_steady_MPa")),
-        (r"a ratio of ([\d.]+) to the unbreakable reference; 38", _cr_ratio(_W24)),
-        (r"reference; (\d+) break\s+events: 3 at switch-on", _cr_piece(_W24, "n_break_events")),
-        (r"38 break\s+events: (\d+) at switch-on, 6", _cr_piece(_W24, "events_switch_on")),
-        (r"3 at switch-on, (\d+) at entry, and of the 29", _cr_piece(_W24, "events_entry")),
-        (r"of the (\d+) during penetration 18", _cr_piece(_W24, "events_penetration")),
-        (r"during penetration (\d+) in\s+the zone \(62", _cr_piece(_W24, "events_in_zone")),
-        (r"the zone \((\d+) %\), none beyond 5 R", _cr_piece(_W24, "fraction_in_zone", 100.0)),
-        (r"layers Br is ([\d.]+) in 1-2 R and 0.014",
-         _cr_piece(_W24, "Br_penetrated_1_2R")),
-        (r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", _cr_piece(_W24, "Br_penetrated_2_3R")),
-        (r"reached a ratio of only ([\d.]+) in the", _cr_ratio(_W24)),
-    )
+    N(_CR_DOC, r"1.43 and 1.31, is ([\d.]+) on the seeds' mean", CR, _cr_ratio_of_mean(*_PEAKS)),
+    N(_CR_DOC, r"on the seeds' mean q_c \(([\d.]+) MPa\)", CR, _cr_mean_qc(*_PEAKS)),
+    N(_CR_DOC, r"the peak reading's mean q_c is (\d+) % below", CR,
+      lambda d: 100.0 * (1.0 - _cr_mean_qc(*_PEAKS)(d) / _cr_mean_qc("chamber_printed_seed2024")(d))),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
