@@ -161,6 +161,29 @@ def run(p, np_):
     return rec
 
 
+def remeasure(p):
+    """Replace a done chamber piece's metrics by those of today's `crushpost
+    report` of its run folder (a metric added or mended after the run); the
+    record says when and at which commit. Returns what happened."""
+    out = os.path.join(ROOT, p["name"])
+    summ = os.path.join(out, "summary.json")
+    if not os.path.exists(summ):
+        return "not remeasured: no %s (the run folder is not on this machine)" % summ
+    with open(summ) as f:
+        metrics, error = evr.chamber_report_metrics(out, json.load(f))
+    if error:
+        return "not remeasured: %s" % error
+    data = load(RESULTS)                  # another call may have added records
+    rec = data["runs"][p["name"]]
+    rec["metrics"] = metrics
+    rec["remeasured"] = {"date": time.strftime("%Y-%m-%dT%H:%M:%S"),
+                         "commit": subprocess.run(["git", "-C", REPO, "rev-parse", "--short",
+                                                   "HEAD"], capture_output=True,
+                                                  text=True).stdout.strip()}
+    evr.save(RESULTS, data)
+    return "remeasured"
+
+
 def load(path=RESULTS):
     return evr.load(path)
 
@@ -255,8 +278,10 @@ def write_table(table, path, qc_rigid):
         "30 MPa), core void ratio. Triaxial: examples/triaxial/run.py defaults, mean of the "
         "packing seeds run (column tri n). Chamber: the "
         "error-vs-runtime reference (8 R, quarter sector, 1 m/s, to 0.2 m), crushable, mean of "
-        "the packing seeds run (column n); q_c ratio = pooled unbreakable reference / this "
-        "reading's q_c (%.2f MPa, bench/error_vs_runtime/results.json). '-': not measured yet."
+        "the packing seeds run (column n), the event counts (shaft, beyond 5R, switch-on) "
+        "summed over them; q_c ratio = pooled unbreakable reference / this "
+        "reading's q_c (%.2f MPa, bench/error_vs_runtime/results.json). '-': not measured yet "
+        "(in zone: also when no break happened during penetration)."
         % qc_rigid,
         "",
         "| reading | keywords | e 10 MPa | e 30 MPa | 1 % broken at (MPa) | Br 10 | Br 30 | "
@@ -478,6 +503,9 @@ def main(argv=None):
     ap.add_argument("--rerun", action="store_true",
                     help="run the selected pieces again even if done, replacing their records "
                     "(e.g. --rerun --scene oedometer, for records made before a metric existed)")
+    ap.add_argument("--remeasure", action="store_true",
+                    help="measure the selected done chamber pieces again from their run folders "
+                    "(crushpost report, no LIGGGHTS run), replacing only their metrics")
     ap.add_argument("--carry", action="store_true",
                     help="pack every killed chamber piece's resumable state into carry/ (commit it)")
     a = ap.parse_args(argv)
@@ -513,6 +541,11 @@ def main(argv=None):
         drawn = draw_triaxial_curves(data)
         if drawn:
             print("wrote %s (%s)" % (TRIAX_PNG, ", ".join(drawn)))
+        return 0
+    if a.remeasure:
+        for p in todo:
+            if p["scene"] == "chamber" and p["name"] in data["runs"]:
+                print("criterion readings: %s %s" % (p["name"], remeasure(p)), flush=True)
         return 0
     for p in todo:
         if p["name"] in data["runs"] and not a.rerun:

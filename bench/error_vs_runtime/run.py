@@ -341,18 +341,29 @@ def run_piece(p, root, np_, liggghts=None, tree=REPO):
         rec["parts"] = summ["parts"]
     rec["n_particles_initial"] = summ.get("n_particles_initial")
     if p["scene"] == "chamber":
-        rep = os.path.join(out, "report")
-        rc2 = subprocess.call([sys.executable, "-m", "crushpost", "report", out, "--out", rep,
-                               "--profile-h", "0.5"], stdout=subprocess.DEVNULL,
-                              stderr=subprocess.DEVNULL, env=dict(os.environ, PYTHONPATH=os.path.join(tree, "scripts")))
-        fields = os.path.join(rep, "fields.h5")
-        if not os.path.exists(fields):
-            rec["error"] = "crushpost report exit status %d, no %s" % (rc2, fields)
+        metrics, error = chamber_report_metrics(out, summ, tree)
+        if error:
+            rec["error"] = error
             return rec
-        rec["metrics"] = study.chamber_metrics(summ, fields)
+        rec["metrics"] = metrics
     else:
         rec["metrics"] = study.oedometer_metrics(summ)
     return rec
+
+
+def chamber_report_metrics(out, summ, tree=REPO):
+    """`crushpost report` of the chamber run in ``out`` (into out/report) and
+    the study's numbers from it (crushpost.study.chamber_metrics): (metrics,
+    None), or (None, the error) when the report wrote no fields.h5."""
+    rep = os.path.join(out, "report")
+    rc = subprocess.call([sys.executable, "-m", "crushpost", "report", out, "--out", rep,
+                          "--profile-h", "0.5"], stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL,
+                         env=dict(os.environ, PYTHONPATH=os.path.join(tree, "scripts")))
+    fields = os.path.join(rep, "fields.h5")
+    if not os.path.exists(fields):
+        return None, "crushpost report exit status %d, no %s" % (rc, fields)
+    return study.chamber_metrics(summ, fields), None
 
 
 def load(path):

@@ -173,7 +173,11 @@ def chamber_metrics(summary, fields_path, r_over_R=2.0, h_over_R=0.5, band=(1.0,
                   "fraction_in_zone", "Br_penetrated_1_2R", "Br_penetrated_2_3R"):
             if k in head:
                 v = head[k]
-                out[k] = float(v) if k.startswith(("fraction", "Br")) else int(v)
+                if k.startswith(("fraction", "Br")):
+                    # undefined (no penetration event): null, not NaN, in the records
+                    out[k] = float(v) if np.isfinite(v) else None
+                else:
+                    out[k] = int(v)
         if fields_h5_group("breakage/bands") in f:
             g = f["breakage/bands"]
             out["Br_band_1_2"] = band_value(g["band_edges_over_R"][()], g["Br_band"][()][-1], *band)

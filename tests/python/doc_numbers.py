@@ -323,6 +323,7 @@ ENTRIES += [
 # Status), as rows of the table above, then the peak reading's two seeds together
 _P25 = "chamber_peak_seed2025"
 _W24 = "chamber_weibull_seed2024"
+_T24 = "chamber_truncated_0.5_seed2024"
 _PEAKS = ("chamber_peak_seed2024", _P25)
 ENTRIES += [
     N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
@@ -348,8 +349,29 @@ ENTRIES += [
         (_W24, r"the zone \((\d+) %\), none beyond 5 R", "fraction_in_zone", 100.0),
         (_W24, r"layers Br is ([\d.]+) in 1-2 R and 0.014", "Br_penetrated_1_2R", 1.0),
         (_W24, r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", "Br_penetrated_2_3R", 1.0),
-        (_W24, r"reached a ratio of only ([\d.]+) in the", "ratio", 1.0),
+        (_W24, r"`weibull` 38 events and a ratio of ([\d.]+),", "ratio", 1.0),
+        (_T24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.99", "qc_steady_MPa", 1.0),
+        (_T24, r"a ratio of ([\d.]+) to the unbreakable reference: this run", "ratio", 1.0),
+        (_T24, r"\*\*Not one grain broke\*\*: (\d+) events", "n_break_events", 1.0),
+        (_T24, r"Br over the\s+penetrated layers is ([\d.]+) in 1-2 R and 0.0029",
+         "Br_penetrated_1_2R", 1.0),
+        (_T24, r"0.0077 in 1-2 R and ([\d.]+) in 2-3 R, because", "Br_penetrated_2_3R", 1.0),
+        (_T24, r"`truncated_0.5` no break\s+and ([\d.]+)\.", "ratio", 1.0),
     )
+]
+
+# the zero-break run against the printed reading on the same packing, and
+# the band Br's floor it measures
+_T24_FLOOR = _cr_piece(_T24, "Br_penetrated_1_2R")
+ENTRIES += [
+    N(_CR_DOC, r"80 breaks cost that packing ([\d.]+) % of its q_c", CR,
+      lambda d: 100.0 * (1.0 - _cr_printed("qc_steady_MPa")(d) / _cr_piece(_T24, "qc_steady_MPa")(d))),
+    N(_CR_DOC, r"\(16.56 against ([\d.]+) MPa\)", CR, _cr_piece(_T24, "qc_steady_MPa")),
+    N(_CR_DOC, r"in 1-2 R stands ([\d.]+) times above that floor", CR,
+      lambda d: _cr_printed("Br_penetrated_1_2R")(d) / _T24_FLOOR(d)),
+    N(_CR_DOC, r"0.018 only ([\d.]+) times\.", CR,
+      lambda d: _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_1_2R")(d)
+      / _T24_FLOOR(d)),
 ]
 
 

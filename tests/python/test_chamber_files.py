@@ -11,7 +11,7 @@ from scipy.spatial import cKDTree
 
 from crushpost.chamber import N_ATOM_TYPES, symmetry_planes, write_chamber
 from crushpost.meshes import annulus_triangles, cylinder_triangles, read_stl
-from crushpost.packing import D50_NE34, ne34_diameters, rsa_cylinder, rsa_cylinder_fast
+from crushpost.packing import ne34_diameters, rsa_cylinder, rsa_cylinder_fast
 
 
 def overlaps(pos, d):

@@ -89,3 +89,33 @@ def test_triaxial_curves_drawn_for_each_reading_with_a_curve(cr, tmp_path):
     assert cr.draw_triaxial_curves({"runs": runs}, path=str(png)) == ["printed", "peak"]
     assert png.stat().st_size > 1000
     assert cr.draw_triaxial_curves({"runs": {}}, path=str(tmp_path / "none.png")) == []
+
+
+def test_remeasure_replaces_only_the_metrics_and_says_when(cr, tmp_path, monkeypatch):
+    # a done chamber piece measured again from its run folder: the record's
+    # other fields stay, its metrics are today's report's, a stamp says so;
+    # a piece whose folder is not here is left alone, with the reason
+    results = tmp_path / "results.json"
+    old = {"name": "chamber_truncated_0.5_seed2024", "wall_s": 3346.0,
+           "metrics": {"events_in_zone": None, "qc_steady_MPa": 17.5}}
+    results.write_text(json.dumps({"runs": {old["name"]: old}}))
+    monkeypatch.setattr(cr, "RESULTS", str(results))
+    monkeypatch.setattr(cr, "ROOT", str(tmp_path))
+    piece = {"name": old["name"], "scene": "chamber"}
+    assert cr.remeasure(piece).startswith("not remeasured: no ")
+    run = tmp_path / old["name"]
+    run.mkdir()
+    (run / "summary.json").write_text(json.dumps({"qc_steady_MPa": 17.5}))
+    seen = []
+
+    def fake(out, summ):
+        seen.append((out, summ))
+        return {"events_in_zone": 0, "qc_steady_MPa": 17.5}, None
+    monkeypatch.setattr(cr.evr, "chamber_report_metrics", fake)
+    assert cr.remeasure(piece) == "remeasured"
+    assert seen == [(str(run), {"qc_steady_MPa": 17.5})]
+    rec = json.loads(results.read_text())["runs"][old["name"]]
+    assert rec["metrics"] == {"events_in_zone": 0, "qc_steady_MPa": 17.5}
+    assert rec["wall_s"] == 3346.0 and set(rec["remeasured"]) == {"date", "commit"}
+    monkeypatch.setattr(cr.evr, "chamber_report_metrics", lambda out, summ: (None, "no fields"))
+    assert cr.remeasure(piece) == "not remeasured: no fields"

@@ -22,6 +22,7 @@ from crushpost import study  # noqa: E402
 from crushpost.cli import main  # noqa: E402
 from crushpost.snapshot import write_snapshot  # noqa: E402
 from crushpost.trend import qc_trend  # noqa: E402
+from conftest import write_events_file  # noqa: E402
 
 R = 0.018
 R_CH, H_CH = 0.06, 0.1
@@ -362,6 +363,21 @@ def test_breaks_at_the_first_step_of_jacking_are_counted_apart(tmp_path):
     assert main(["report", str(run), "--out", str(tmp_path / "out"), "--quiet"]) == 0
     with h5py.File(tmp_path / "out" / "fields.h5", "r") as f:
         assert f["headline"].attrs["n_break_events_first_step"] == 3
+
+
+def test_an_empty_event_log_counts_zero_in_every_zone(tmp_path):
+    # crushable grains that never broke: the zones are measured (0), not
+    # missing; the in-zone fraction is undefined and the map is skipped
+    run = make_run(tmp_path / "run", snapshots=False)
+    write_events_file(run / "breakage_events.txt", [])
+    assert main(["report", str(run), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    with h5py.File(tmp_path / "out" / "fields.h5", "r") as f:
+        head = f["headline"].attrs
+        for k in ("switch_on", "entry", "penetration", "in_zone", "along_shaft",
+                  "beyond_5R_below", "elsewhere"):
+            assert head["events_" + k] == 0, k
+        assert math.isnan(head["fraction_in_zone"])
+    assert not (tmp_path / "out" / "breakage_density.png").exists()
 
 
 def _head_and_qc_attrs(out):

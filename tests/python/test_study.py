@@ -85,9 +85,15 @@ def test_chamber_metrics_read_back_from_a_fields_file(tmp_path):
         f["qc"].attrs["band_height"] = 0.025
         f.require_group("headline").attrs["qc_last3_bands_MPa"] = 13.5
         f["headline"].attrs["n_break_events_first_step"] = 3
+        # no break during penetration: counts 0, the fraction undefined
+        f["headline"].attrs["events_in_zone"] = 0
+        f["headline"].attrs["fraction_in_zone"] = np.nan
+        f["headline"].attrs["Br_penetrated_1_2R"] = 0.0077
     summ = {"qc_steady_MPa": 12.0, "qc_fit_b": 40.0, "final_depth_m": 0.1,
             "qc_levelled_off": True, "n_break_events": 7}
     m = study.chamber_metrics(summ, str(p))
+    assert m["events_in_zone"] == 0 and m["fraction_in_zone"] is None
+    assert m["Br_penetrated_1_2R"] == pytest.approx(0.0077)
     assert m["sigma_r_2R_kPa"] == pytest.approx(100 * 2.0 + 10 * 0.5)
     assert m["sigma_r_2R_over_qc"] == pytest.approx(205e3 / 10e6)
     assert m["Br_band_1_2"] == pytest.approx(0.21)      # last state

@@ -191,35 +191,17 @@ def _fig_bands(rep, ctx):
                "of the breaks whose parent was in it, against its grains at the first state.")
 
 
-def _breakage_map(rep, ctx):
-    events, jack, R = ctx["events"], ctx["jack"], ctx["R"]
-    if events is None:
-        return
-    if jack is None:
-        rep.skip("breakage density map", "no tip position (jack.txt)")
-        return
-    if events["step"].size == 0:
-        rep.skip("breakage density map", "%s: no breakage event" % rep.path("breakage_events.txt"))
-        return
-    plt = _plt()
-    z_tip = tip_z_at(events["step"], jack["step"], jack["depth"], ctx["z_ref"])
-    hh, rr = relative_to_tip(events["x"], events["y"], events["z"], z_tip, R)
-    inside = inside_pile(hh, rr)
-    sector = ctx.get("sector") or rep.opt.sector or ctx["summary"].get(S.sector_deg) or 360
-    r_edges = np.arange(0.0, max(2.0, float(rr.max())) + 0.25, 0.25)
-    h_lo = math.floor(float(hh.min()) * 2) / 2
-    h_hi = math.ceil(float(hh.max()) * 2) / 2 + 0.5
-    h_edges = np.arange(h_lo, h_hi + 1e-9, 0.25)
-    dens, cnt = event_density(hh, rr, h_edges, r_edges, sector)
-    # events by zone (crushpost.pile.break_zones): switch-on, entry, the
-    # crushing zone at the cone, along the shaft, beyond 5R below the tip
+def _zones(rep, ctx, events, hh, rr, z_tip):
+    """Events by zone (crushpost.pile.break_zones): switch-on, entry, the
+    crushing zone at the cone, along the shaft, beyond 5R below the tip;
+    all zero for an empty event log (fraction_in_zone then undefined)."""
     first_step = ctx.get("jack_first_step")
     # crushing on before jacking (cpt_demo --crush-in-prep, or events before
     # the first step): no switch-on
     on_before = bool(ctx["summary"].get(S.crush_in_prep)) or (
         first_step is not None and bool(np.any(events["step"] < first_step)))
     prep, switch_on = event_phases(events["step"], first_step, on_before)
-    zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / R, switch_on, prep=prep)
+    zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / ctx["R"], switch_on, prep=prep)
     for k in ("switch_on", "entry", "penetration", "in_zone", "along_shaft", "beyond_5R_below",
               "elsewhere"):
         rep.head["events_" + k] = zones[k]
@@ -229,6 +211,30 @@ def _breakage_map(rep, ctx):
         "r < %gR and -%gR < h < 1.73R (the cone's shoulder); crushpost.pile.break_zones"
         % (ZONE_DEPTH_MIN, ZONE_R_MAX, ZONE_H_BELOW))
     rep.put("breakage/zones", **{k: np.asarray(v) for k, v in zones.items()})
+
+
+def _breakage_map(rep, ctx):
+    events, jack, R = ctx["events"], ctx["jack"], ctx["R"]
+    if events is None:
+        return
+    if jack is None:
+        rep.skip("breakage density map", "no tip position (jack.txt)")
+        return
+    z_tip = tip_z_at(events["step"], jack["step"], jack["depth"], ctx["z_ref"])
+    hh, rr = relative_to_tip(events["x"], events["y"], events["z"], z_tip, R)
+    _zones(rep, ctx, events, hh, rr, z_tip)
+    if events["step"].size == 0:
+        # counted above: an empty log is a measurement (no break in any zone)
+        rep.skip("breakage density map", "%s: no breakage event" % rep.path("breakage_events.txt"))
+        return
+    plt = _plt()
+    inside = inside_pile(hh, rr)
+    sector = ctx.get("sector") or rep.opt.sector or ctx["summary"].get(S.sector_deg) or 360
+    r_edges = np.arange(0.0, max(2.0, float(rr.max())) + 0.25, 0.25)
+    h_lo = math.floor(float(hh.min()) * 2) / 2
+    h_hi = math.ceil(float(hh.max()) * 2) / 2 + 0.5
+    h_edges = np.arange(h_lo, h_hi + 1e-9, 0.25)
+    dens, cnt = event_density(hh, rr, h_edges, r_edges, sector)
     rep.put("breakage/events", step=events["step"], h_over_R=hh, r_over_R=rr,
             tip_depth=ctx["z_ref"] - z_tip, inside_pile=inside.astype(np.int8),
             parent_diameter=events["parent_diameter"], generation=events["generation"])
