@@ -369,6 +369,10 @@ ENTRIES += [
     N(_CR_DOC, r"\(16.56 against ([\d.]+) MPa\)", CR, _cr_piece(_T24, "qc_steady_MPa")),
     N(_CR_DOC, r"in 1-2 R stands ([\d.]+) times above that floor", CR,
       lambda d: _cr_printed("Br_penetrated_1_2R")(d) / _T24_FLOOR(d)),
+    N("docs/report.md", r"never broke \(bench/criterion_readings,\s+`chamber_truncated_0.5_seed2024`\) reads ([\d.]+) in 1-2 R",
+      CR, _T24_FLOOR),
+    N("docs/report.md", r"reads 0.0077 in 1-2 R and ([\d.]+) in\s+2-3 R", CR,
+      _cr_piece(_T24, "Br_penetrated_2_3R")),
     N(_CR_DOC, r"0.018 only ([\d.]+) times\.", CR,
       lambda d: _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_1_2R")(d)
       / _T24_FLOOR(d)),
