@@ -318,20 +318,23 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
     zones = None
     ev_path = os.path.join(out, "breakage_events.txt")
     events = read_crush_log(ev_path) if os.path.exists(ev_path) else None
-    if events is not None and len(events["step"]):
+    if events is not None:
         # tip position at each event from the series' depth reference
         z_tip = tip_z_at(events["step"], jack["step"], depth, z_ref)
         hh, r = relative_to_tip(events["x"], events["y"], events["z"], z_tip, a.R_pile)
-        inside = inside_pile(hh, r)
-        n_inside = int(inside.sum())
         # where the events are: preparation (--crush-in-prep: up to the step
         # jacking starts at), switch-on (first step of jacking, when crushing
         # is switched on there), entry, the crushing zone at the cone, the
-        # shaft, beyond 5R below the tip
+        # shaft, beyond 5R below the tip; an empty log counts 0 everywhere
         first_step = int(blocks[0]["Step"][0]) + 1 if "Step" in blocks[0] else None
         in_prep, switch_on = event_phases(events["step"], first_step,
                                           getattr(a, "crush_in_prep", False))
         zones = break_zones(hh, r, (z_ref - z_tip) / a.R_pile, switch_on, prep=in_prep)
+        if not math.isfinite(zones["fraction_in_zone"]):
+            zones["fraction_in_zone"] = None       # no penetration event: undefined
+    if events is not None and len(events["step"]):
+        inside = inside_pile(hh, r)
+        n_inside = int(inside.sum())
         ev_depth = (z_ref - z_tip) * 1e3
         np.savetxt(os.path.join(out, "breakage_map.txt"),
                    np.column_stack([events["step"], hh, r, ev_depth, inside]),

@@ -16,6 +16,7 @@ synthetic data with a known answer:
    event (crushing was on already)."""
 
 import argparse
+import json
 import math
 
 import numpy as np
@@ -180,3 +181,20 @@ def test_option_off_keeps_the_switch_on_zone(tmp_path, run):
     assert s["break_zones"]["prep"] == 0 and s["break_zones"]["switch_on"] == 1
     assert s["n_particles_expected"] == N0 + 13 * 4
     assert s["failed_checks"] == [], s["failed_checks"]
+
+
+def test_a_run_without_a_break_counts_zero_in_every_zone(tmp_path, run):
+    """Crushable grains that never broke (an empty event log): summary.json's
+    zones are measured as 0, not left out, and the in-zone fraction is null
+    (undefined), so that the file stays strict JSON."""
+    _write_run(tmp_path, n_jack_events=0, counters_from_zero=True)
+    write_events_file(tmp_path / "breakage_events.txt", [])
+    log = tmp_path / "log.liggghts"
+    log.write_text(log.read_text().replace(" %d " % (N0 + 13 * N_PREP), " %d " % N0))
+    s = run.postprocess(_args(crush_in_prep=False), str(tmp_path), 1.0, N0, TIP_Z0)
+    assert s["failed_checks"] == [], s["failed_checks"]
+    z = s["break_zones"]
+    assert z["fraction_in_zone"] is None
+    assert all(v == 0 for k, v in z.items() if k != "fraction_in_zone"), z
+    json.loads(json.dumps(s), parse_constant=lambda c: pytest.fail("not strict JSON: " + c))
+    assert "breakage_map.png" not in s["plots"]
