@@ -333,6 +333,9 @@ def collect_events(names, root=ROOT, path=EVENTS):
             continue
         with h5py.File(fields, "r") as f:
             if "breakage/events" not in f:
+                if "breakage/zones/n_events" in f and int(f["breakage/zones/n_events"][()]) == 0:
+                    # crushable grains that never broke: a measured empty map
+                    data[name] = {"h_over_R": [], "r_over_R": [], "tip_depth_over_R": []}
                 continue
             g = f["breakage/events"]
             tip = g["tip_depth"][()] / _pile_radius(os.path.join(root, name))   # m -> R

@@ -324,6 +324,8 @@ ENTRIES += [
 _P25 = "chamber_peak_seed2025"
 _W24 = "chamber_weibull_seed2024"
 _T24 = "chamber_truncated_0.5_seed2024"
+_R25 = "chamber_printed_seed2025"
+_PRINTEDS = ("chamber_printed_seed2024", _R25)
 _PEAKS = ("chamber_peak_seed2024", _P25)
 ENTRIES += [
     N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
@@ -339,12 +341,13 @@ ENTRIES += [
         (_P25, r"\(48 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
         (_P25, r"Br is ([\d.]+) in 1-2 R\s+and 0.024", "Br_penetrated_1_2R", 1.0),
         (_P25, r"0.123 in 1-2 R\s+and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
-        (_W24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09", "qc_steady_MPa", 1.0),
+        (_W24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09 to the unbreakable reference; 38",
+         "qc_steady_MPa", 1.0),
         (_W24, r"a ratio of ([\d.]+) to the unbreakable reference; 38", "ratio", 1.0),
         (_W24, r"reference; (\d+) break\s+events: 3 at switch-on", "n_break_events", 1.0),
         (_W24, r"38 break\s+events: (\d+) at switch-on, 6", "events_switch_on", 1.0),
         (_W24, r"3 at switch-on, (\d+) at entry, and of the 29", "events_entry", 1.0),
-        (_W24, r"of the (\d+) during penetration 18", "events_penetration", 1.0),
+        (_W24, r"of the (\d+) during penetration 18 in\s+the zone \(62", "events_penetration", 1.0),
         (_W24, r"during penetration (\d+) in\s+the zone \(62", "events_in_zone", 1.0),
         (_W24, r"the zone \((\d+) %\), none beyond 5 R", "fraction_in_zone", 100.0),
         (_W24, r"layers Br is ([\d.]+) in 1-2 R and 0.014", "Br_penetrated_1_2R", 1.0),
@@ -357,6 +360,22 @@ ENTRIES += [
          "Br_penetrated_1_2R", 1.0),
         (_T24, r"0.0077 in 1-2 R and ([\d.]+) in 2-3 R, because", "Br_penetrated_2_3R", 1.0),
         (_T24, r"`truncated_0.5` no break\s+and ([\d.]+)\.", "ratio", 1.0),
+        (_R25, r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.09 to the unbreakable reference; 74",
+         "qc_steady_MPa", 1.0),
+        (_R25, r"MPa, a ratio of ([\d.]+) to the unbreakable reference; 74", "ratio", 1.0),
+        (_R25, r"reference; (\d+) break events: 22 at\s+switch-on, 13", "n_break_events", 1.0),
+        (_R25, r"74 break events: (\d+) at\s+switch-on, 13", "events_switch_on", 1.0),
+        (_R25, r"switch-on, (\d+) at entry, and of the 39", "events_entry", 1.0),
+        (_R25, r"of the (\d+) during penetration 18 in the zone\s+\(46", "events_penetration", 1.0),
+        (_R25, r"during penetration (\d+) in the zone\s+\(46", "events_in_zone", 1.0),
+        (_R25, r"in the zone\s+\((\d+) %\), 9 beyond", "fraction_in_zone", 100.0),
+        (_R25, r"\(46 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+        (_R25, r"\(46 %\), 9 beyond 5 R below the tip, (\d+) farther than 3 R out",
+         "events_elsewhere", 1.0),
+        (_R25, r"Br is ([\d.]+) in 1-2 R and 0.011", "Br_penetrated_1_2R", 1.0),
+        (_R25, r"0.052 in 1-2 R and ([\d.]+) in 2-3 R\.\s+The printed", "Br_penetrated_2_3R", 1.0),
+        (_R25, r"80 and (\d+) events, 22 at switch-on", "n_break_events", 1.0),
+        (_R25, r"43 and (\d+) % of the penetration breaks", "fraction_in_zone", 100.0),
     )
 ]
 
@@ -394,6 +413,28 @@ ENTRIES += [
       lambda d: 100.0 * (1.0 - _cr_mean_qc(*_PEAKS)(d) / _cr_mean_qc("chamber_printed_seed2024")(d))),
 ]
 
+def _cr_mean(key, *names):
+    return lambda d: statistics.mean(d["runs"][n]["metrics"][key] for n in names)
+
+
+def _cr_drop(lower, upper):
+    """How much lower (%) the q_c of `lower` is than that of `upper`."""
+    return lambda d: 100.0 * (1.0 - _cr_mean_qc(*lower)(d) / _cr_mean_qc(*upper)(d))
+
+
+ENTRIES += [
+    N(_CR_DOC, r"On the seeds' mean q_c \(([\d.]+) MPa\) its ratio", CR, _cr_mean_qc(*_PRINTEDS)),
+    N(_CR_DOC, r"\(16.20 MPa\) its ratio is ([\d.]+),", CR, _cr_ratio_of_mean(*_PRINTEDS)),
+    N(_CR_DOC, r"peak reading's mean q_c is (\d+) % lower, and", CR, _cr_drop(_PEAKS, _PRINTEDS)),
+    N(_CR_DOC, r"prepared packing\) (\d+) % and 17 % lower", CR,
+      _cr_drop(_PEAKS[:1], _PRINTEDS[:1])),
+    N(_CR_DOC, r"27 % and (\d+) % lower: the peak", CR, _cr_drop(_PEAKS[1:], _PRINTEDS[1:])),
+    N(_CR_DOC, r"\(Br in 2-3 R ([\d.]+) and 0.011\)", CR, _cr_printed("Br_penetrated_2_3R")),
+    N(_CR_DOC, r"its mean \(([\d.]+)\s+in 1-2 R, 0.027", CR, _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
+    N(_CR_DOC, r"in 1-2 R, ([\d.]+) in 2-3 R\) is the number", CR,
+      _cr_mean("Br_penetrated_2_3R", *_PRINTEDS)),
+]
+
 # docs/grain_models.md: its table, printed against peak, from the study's records
 _GM_DOC = "docs/grain_models.md"
 
@@ -406,27 +447,30 @@ def _gm_cell(label, k):
 
 
 _GM_ROWS = {
-    "chamber: steady q_c (MPa)": [_cr_printed("qc_steady_MPa"),
+    "chamber: steady q_c (MPa)": [_cr_printed("qc_steady_MPa"), _cr_piece(_R25, "qc_steady_MPa"),
                                   _cr_piece("chamber_peak_seed2024", "qc_steady_MPa"),
                                   _cr_piece(_P25, "qc_steady_MPa")],
-    "chamber: unbreakable / crushable q_c": [_cr_ratio("chamber_printed_seed2024"),
+    "chamber: unbreakable / crushable q_c": [_cr_ratio("chamber_printed_seed2024"), _cr_ratio(_R25),
+                                             _cr_ratio_of_mean(*_PRINTEDS),
                                              _cr_ratio("chamber_peak_seed2024"), _cr_ratio(_P25),
                                              _cr_ratio_of_mean(*_PEAKS)],
     "chamber: penetration breaks in the zone (r < 3 R, -5 R < h < 1.73 R)": [
-        _cr_printed("fraction_in_zone", 100.0),
+        _cr_printed("fraction_in_zone", 100.0), _cr_piece(_R25, "fraction_in_zone", 100.0),
         _cr_piece("chamber_peak_seed2024", "fraction_in_zone", 100.0),
         _cr_piece(_P25, "fraction_in_zone", 100.0)],
     "chamber: breaks beyond 5 R below the tip / along the shaft": [
-        _cr_printed("events_beyond_5R_below"), _cr_printed("events_along_shaft"),
+        _cr_printed("events_beyond_5R_below"), _cr_piece(_R25, "events_beyond_5R_below"),
+        _cr_printed("events_along_shaft"), _cr_piece(_R25, "events_along_shaft"),
         _cr_piece("chamber_peak_seed2024", "events_beyond_5R_below"),
         _cr_piece(_P25, "events_beyond_5R_below"),
         _cr_piece("chamber_peak_seed2024", "events_along_shaft"),
         _cr_piece(_P25, "events_along_shaft")],
-    "chamber: breaks at switch-on": [_cr_printed("events_switch_on"),
+    "chamber: breaks at switch-on": [_cr_printed("events_switch_on"), _cr_piece(_R25, "events_switch_on"),
                                      _cr_piece("chamber_peak_seed2024", "events_switch_on"),
                                      _cr_piece(_P25, "events_switch_on")],
     "chamber: Br over the penetrated layers, 1-2 R": [
-        _cr_printed("Br_penetrated_1_2R"), _cr_piece("chamber_peak_seed2024", "Br_penetrated_1_2R"),
+        _cr_printed("Br_penetrated_1_2R"), _cr_piece(_R25, "Br_penetrated_1_2R"),
+        _cr_piece("chamber_peak_seed2024", "Br_penetrated_1_2R"),
         _cr_piece(_P25, "Br_penetrated_1_2R")],
     "oedometer: core void ratio at 10 MPa": [_cr_piece("oedometer_printed", "e_core_at_10MPa"),
                                              _cr_piece("oedometer_peak", "e_core_at_10MPa")],
@@ -446,6 +490,12 @@ ENTRIES += [N(_GM_DOC, _gm_cell(label, k), CR, value)
             for label, values in _GM_ROWS.items() for k, value in enumerate(values)]
 ENTRIES += [
     N(_GM_DOC, r"pooled unbreakable reference, ([\d.]+) MPa", CR, lambda d: _cr_unbreakable_qc()),
+    N(_GM_DOC, r"\(Br ([\d.]+) against 0.043 on", CR, _cr_mean("Br_penetrated_1_2R", *_PEAKS)),
+    N(_GM_DOC, r"against ([\d.]+) on the seeds' means\)", CR,
+      _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
+    N(_GM_DOC, r"its q_c is (\d+) % lower on the means", CR, _cr_drop(_PEAKS, _PRINTEDS)),
+    N(_GM_DOC, r"on the means, (\d+) % and 17 %", CR, _cr_drop(_PEAKS[:1], _PRINTEDS[:1])),
+    N(_GM_DOC, r"27 % and (\d+) % seed by seed", CR, _cr_drop(_PEAKS[1:], _PRINTEDS[1:])),
     N(_GM_DOC, r"seeds agree on the crushing and differ in q_c by (\d+) %", CR,
       lambda d: 100.0 * (d["runs"][_P25]["metrics"]["qc_steady_MPa"]
                          / d["runs"]["chamber_peak_seed2024"]["metrics"]["qc_steady_MPa"] - 1.0)),

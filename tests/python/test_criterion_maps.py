@@ -51,6 +51,25 @@ def test_events_are_kept_in_radii_and_penetration_needs_the_tip_below_2R(cr, tmp
     assert z["penetration"] == hp.size and z["in_zone"] == 2
 
 
+def test_a_piece_without_a_break_keeps_an_empty_map(cr, tmp_path):
+    # the report of crushable grains that never broke has zones (all 0) and
+    # no events: an empty entry, drawn as a panel; a report without zones
+    # (unbreakable grains, or older) is skipped
+    import h5py
+    for name, n_events in (("chamber_truncated_0.5_seed2024", 0), ("chamber_sliding_seed2024", None)):
+        run = tmp_path / name
+        (run / "report").mkdir(parents=True)
+        (run / "summary.json").write_text(json.dumps({"R_pile_m": R}))
+        with h5py.File(run / "report" / "fields.h5", "w") as f:
+            if n_events is not None:
+                f["breakage/zones/n_events"] = n_events
+    data = cr.collect_events(["chamber_truncated_0.5_seed2024", "chamber_sliding_seed2024"],
+                             root=str(tmp_path), path=str(tmp_path / "events.json"))
+    assert data == {"chamber_truncated_0.5_seed2024": {"h_over_R": [], "r_over_R": [],
+                                                       "tip_depth_over_R": []}}
+    assert cr.draw_maps(data, path=str(tmp_path / "maps.png")) == ["truncated_0.5"]
+
+
 def test_maps_pool_the_seeds_of_a_reading(cr, tmp_path):
     events = {"chamber_printed_seed2024": {"h_over_R": [-1.0], "r_over_R": [1.0],
                                            "tip_depth_over_R": [3.0]},
