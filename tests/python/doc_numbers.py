@@ -326,6 +326,8 @@ _W24 = "chamber_weibull_seed2024"
 _T24 = "chamber_truncated_0.5_seed2024"
 _R25 = "chamber_printed_seed2025"
 _PRINTEDS = ("chamber_printed_seed2024", _R25)
+_B25 = "chamber_peak_truncated_0.5_seed2025"
+_BOUNDED = ("chamber_peak_truncated_0.5_seed2024", _B25)
 _PEAKS = ("chamber_peak_seed2024", _P25)
 ENTRIES += [
     N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
@@ -374,6 +376,11 @@ ENTRIES += [
          "events_elsewhere", 1.0),
         (_R25, r"Br is ([\d.]+) in 1-2 R and 0.011", "Br_penetrated_1_2R", 1.0),
         (_R25, r"0.052 in 1-2 R and ([\d.]+) in 2-3 R\.\s+The printed", "Br_penetrated_2_3R", 1.0),
+        (_B25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.02", "qc_steady_MPa", 1.0),
+        (_B25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 10", "ratio", 1.0),
+        (_B25, r"reference; (\d+) break events, all during", "n_break_events", 1.0),
+        (_B25, r"layers Br is\s+([\d.]+) in 1-2 R and 0.0005", "Br_penetrated_1_2R", 1.0),
+        (_B25, r"in 1-2 R and ([\d.]+) in 2-3 R\. It repeats", "Br_penetrated_2_3R", 1.0),
         (_R25, r"80 and (\d+) events, 22 at switch-on", "n_break_events", 1.0),
         (_R25, r"43 and (\d+) % of the penetration breaks", "fraction_in_zone", 100.0),
     )
@@ -430,6 +437,8 @@ ENTRIES += [
       _cr_drop(_PEAKS[:1], _PRINTEDS[:1])),
     N(_CR_DOC, r"27 % and (\d+) % lower: the peak", CR, _cr_drop(_PEAKS[1:], _PRINTEDS[1:])),
     N(_CR_DOC, r"\(Br in 2-3 R ([\d.]+) and 0.011\)", CR, _cr_printed("Br_penetrated_2_3R")),
+    N(_CR_DOC, r"seeds' mean \(([\d.]+)\s+MPa, a ratio of 1.06\)", CR, _cr_mean_qc(*_BOUNDED)),
+    N(_CR_DOC, r"MPa, a ratio of ([\d.]+)\) is the printed", CR, _cr_ratio_of_mean(*_BOUNDED)),
     N(_CR_DOC, r"its mean \(([\d.]+)\s+in 1-2 R, 0.027", CR, _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
     N(_CR_DOC, r"in 1-2 R, ([\d.]+) in 2-3 R\) is the number", CR,
       _cr_mean("Br_penetrated_2_3R", *_PRINTEDS)),
