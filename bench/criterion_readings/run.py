@@ -177,9 +177,7 @@ def remeasure(p):
     rec = data["runs"][p["name"]]
     rec["metrics"] = metrics
     rec["remeasured"] = {"date": time.strftime("%Y-%m-%dT%H:%M:%S"),
-                         "commit": subprocess.run(["git", "-C", REPO, "rev-parse", "--short",
-                                                   "HEAD"], capture_output=True,
-                                                  text=True).stdout.strip()}
+                         "commit": evr.head_commit()}
     evr.save(RESULTS, data)
     return "remeasured"
 

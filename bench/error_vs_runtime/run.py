@@ -316,8 +316,7 @@ def run_piece(p, root, np_, liggghts=None, tree=REPO):
            # the machine's load at the end: wall times under load are not costs
            "loadavg_1_5_15": list(os.getloadavg()),
            "machine": "%s, %d cores" % (platform.processor() or platform.machine(), os.cpu_count()),
-           "commit": subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"],
-                                    capture_output=True, text=True).stdout.strip()}
+           "commit": head_commit()}
     log = os.path.join(out, "log.liggghts")
     if os.path.exists(log):
         rec["particle_steps"], rec["particle_steps_test"] = log_particle_steps(log)
@@ -349,6 +348,12 @@ def run_piece(p, root, np_, liggghts=None, tree=REPO):
     else:
         rec["metrics"] = study.oedometer_metrics(summ)
     return rec
+
+
+def head_commit():
+    """The short hash of the repository's HEAD, the commit a record was made at."""
+    return subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"],
+                          capture_output=True, text=True).stdout.strip()
 
 
 def chamber_report_metrics(out, summ, tree=REPO):

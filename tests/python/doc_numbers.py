@@ -266,6 +266,19 @@ def _cr_ratio(name):
     return lambda d: _cr_unbreakable_qc() / d["runs"][name]["metrics"]["qc_steady_MPa"]
 
 
+def _cr_mean(key, *names):
+    return lambda d: statistics.mean(d["runs"][n]["metrics"][key] for n in names)
+
+
+def _cr_mean_qc(*names):
+    return _cr_mean("qc_steady_MPa", *names)
+
+
+def _cr_drop(lower, upper):
+    """How much lower (%) the mean q_c of the pieces `lower` is than that of `upper`."""
+    return lambda d: 100.0 * (1.0 - _cr_mean_qc(*lower)(d) / _cr_mean_qc(*upper)(d))
+
+
 @functools.lru_cache(maxsize=None)
 def _cr_unbreakable_qc():
     """The pooled unbreakable reference q_c the study's ratios divide by
@@ -391,7 +404,7 @@ ENTRIES += [
 _T24_FLOOR = _cr_piece(_T24, "Br_penetrated_1_2R")
 ENTRIES += [
     N(_CR_DOC, r"80 breaks cost that packing ([\d.]+) % of its q_c", CR,
-      lambda d: 100.0 * (1.0 - _cr_printed("qc_steady_MPa")(d) / _cr_piece(_T24, "qc_steady_MPa")(d))),
+      _cr_drop(_PRINTEDS[:1], (_T24,))),
     N(_CR_DOC, r"\(16.56 against ([\d.]+) MPa\)", CR, _cr_piece(_T24, "qc_steady_MPa")),
     N(_CR_DOC, r"in 1-2 R stands ([\d.]+) times above that floor", CR,
       lambda d: _cr_printed("Br_penetrated_1_2R")(d) / _T24_FLOOR(d)),
@@ -405,10 +418,6 @@ ENTRIES += [
 ]
 
 
-def _cr_mean_qc(*names):
-    return lambda d: statistics.mean(d["runs"][n]["metrics"]["qc_steady_MPa"] for n in names)
-
-
 def _cr_ratio_of_mean(*names):
     return lambda d: _cr_unbreakable_qc() / _cr_mean_qc(*names)(d)
 
@@ -417,17 +426,8 @@ ENTRIES += [
     N(_CR_DOC, r"1.43 and 1.31, is ([\d.]+) on the seeds' mean", CR, _cr_ratio_of_mean(*_PEAKS)),
     N(_CR_DOC, r"on the seeds' mean q_c \(([\d.]+) MPa\)", CR, _cr_mean_qc(*_PEAKS)),
     N(_CR_DOC, r"the peak reading's mean q_c is (\d+) % below", CR,
-      lambda d: 100.0 * (1.0 - _cr_mean_qc(*_PEAKS)(d) / _cr_mean_qc("chamber_printed_seed2024")(d))),
+      _cr_drop(_PEAKS, _PRINTEDS[:1])),
 ]
-
-def _cr_mean(key, *names):
-    return lambda d: statistics.mean(d["runs"][n]["metrics"][key] for n in names)
-
-
-def _cr_drop(lower, upper):
-    """How much lower (%) the q_c of `lower` is than that of `upper`."""
-    return lambda d: 100.0 * (1.0 - _cr_mean_qc(*lower)(d) / _cr_mean_qc(*upper)(d))
-
 
 ENTRIES += [
     N(_CR_DOC, r"On the seeds' mean q_c \(([\d.]+) MPa\) its ratio", CR, _cr_mean_qc(*_PRINTEDS)),
