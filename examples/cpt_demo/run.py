@@ -55,7 +55,7 @@ from crushpost.chamber import hole_radius, write_chamber  # noqa: E402
 from crushpost.materials import D_COMM_RATIO, RHO_GRAIN  # noqa: E402
 from crushpost.meshes import PILE_APEX_ANGLE_DEG  # noqa: E402
 from crushpost.packing import D50_NE34  # noqa: E402
-from crushpost.pile import PHASE_PUSH, break_zones, event_phases, inside_pile, read_jack, relative_to_tip, tip_z_at  # noqa: E402
+from crushpost.pile import PHASE_PUSH, events_by_zone, inside_pile, read_jack  # noqa: E402
 from crushpost.prep import (PAPER_PREPARED, prep_chunk_for, prep_cost, prep_time_step,  # noqa: E402
                             read_prep_report, snapshot_prep_summary)
 from crushpost.progress import ChamberProgress, run_watched  # noqa: E402
@@ -319,17 +319,14 @@ def postprocess(a, out, wall, n0, tip_z0, parts=None, core_s=None):
     ev_path = os.path.join(out, "breakage_events.txt")
     events = read_crush_log(ev_path) if os.path.exists(ev_path) else None
     if events is not None:
-        # tip position at each event from the series' depth reference
-        z_tip = tip_z_at(events["step"], jack["step"], depth, z_ref)
-        hh, r = relative_to_tip(events["x"], events["y"], events["z"], z_tip, a.R_pile)
-        # where the events are: preparation (--crush-in-prep: up to the step
-        # jacking starts at), switch-on (first step of jacking, when crushing
-        # is switched on there), entry, the crushing zone at the cone, the
-        # shaft, beyond 5R below the tip; an empty log counts 0 everywhere
+        # where the events are (crushpost.pile.events_by_zone): preparation
+        # (--crush-in-prep: up to the step jacking starts at), switch-on
+        # (first step of jacking, when crushing is switched on there), entry,
+        # the crushing zone at the cone, the shaft, beyond 5R below the tip;
+        # an empty log counts 0 everywhere
         first_step = int(blocks[0]["Step"][0]) + 1 if "Step" in blocks[0] else None
-        in_prep, switch_on = event_phases(events["step"], first_step,
-                                          getattr(a, "crush_in_prep", False))
-        zones = break_zones(hh, r, (z_ref - z_tip) / a.R_pile, switch_on, prep=in_prep)
+        zones, hh, r, z_tip = events_by_zone(events, jack["step"], depth, z_ref, a.R_pile,
+                                             first_step, getattr(a, "crush_in_prep", False))
         if not math.isfinite(zones["fraction_in_zone"]):
             zones["fraction_in_zone"] = None       # no penetration event: undefined
     if events is not None and len(events["step"]):

@@ -23,7 +23,7 @@ from .meshes import PILE_APEX_ANGLE_DEG
 
 __all__ = ["JACK_COLUMNS", "PHASE_PUSH", "PHASE_UNLOAD", "PHASE_PAUSE", "PHASE_DONE",
            "read_jack", "tip_z", "tip_z_at", "relative_to_tip", "pile_penetration",
-           "inside_pile", "event_phases", "break_zones", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
+           "inside_pile", "event_phases", "break_zones", "events_by_zone", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
            "UTILISATION_ZONES", "utilisation_by_zone"]
 
 #: Columns of the fix jack/pile time series, in file order.
@@ -183,6 +183,32 @@ def break_zones(h_over_R, r_over_R, tip_depth_over_R, switch_on,
             "penetration": n_pen, "in_zone": int(in_zone.sum()), "along_shaft": int(shaft.sum()),
             "beyond_5R_below": int(below.sum()), "elsewhere": int(elsewhere.sum()),
             "fraction_in_zone": float(in_zone.sum()) / n_pen if n_pen else float("nan")}
+
+
+def events_by_zone(events, jack_step, jack_depth, z_ref, R, first_step, crushing_before=False):
+    """Break events of a jacked run counted by zone (:func:`break_zones`),
+    from the event log and the jack series: the one path the report and
+    examples/cpt_demo share.
+
+    ``events``: the crush log (``step``, ``x``, ``y``, ``z`` arrays,
+    crushpost.dump.read_crush_log); ``jack_step``, ``jack_depth``: the
+    fix jack/pile series (depth below ``z_ref`` [m]); ``R`` the pile radius
+    [m]; ``first_step`` the jacking's first step (None: no jacking);
+    ``crushing_before``: crushing was on before jacking (cpt_demo
+    --crush-in-prep). Events before ``first_step`` also mean crushing was on
+    before it, so none is then read as switch-on.
+
+    Returns ``(zones, h_over_R, r_over_R, z_tip)``: the counts of
+    :func:`break_zones` and, per event, the parent's place relative to the
+    apex and the apex's z [m] at the event."""
+    steps = np.asarray(events["step"])
+    z_tip = tip_z_at(steps, jack_step, jack_depth, z_ref)
+    hh, rr = relative_to_tip(events["x"], events["y"], events["z"], z_tip, R)
+    on_before = bool(crushing_before) or (
+        first_step is not None and bool(np.any(steps < first_step)))
+    prep, switch_on = event_phases(steps, first_step, on_before)
+    zones = break_zones(hh, rr, (z_ref - z_tip) / R, switch_on, prep=prep)
+    return zones, hh, rr, z_tip
 
 
 #: Zones of the utilisation census (issue "Crushing where the paper found

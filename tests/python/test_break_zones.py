@@ -76,3 +76,38 @@ def test_event_phases_split_preparation_and_switch_on():
     assert not on.any() and prep.sum() == 2
     prep, on = event_phases(steps, None, crushing_before=False)
     assert not prep.any() and not on.any()
+
+
+def test_events_by_zone_from_log_and_jack_series():
+    """The shared path of the report and cpt_demo: tip from the jack series
+    (linear between rows), place relative to the apex, phases, zones."""
+    from crushpost.pile import events_by_zone
+    R, z_ref = 0.01, 0.5
+    # the apex goes down 1 mm per 100 steps from the surface at step 100
+    jack_step = np.array([100, 200, 1100])
+    jack_depth = np.array([0.0, 0.001, 0.010])
+    # apex z at step s (>= 100): z_ref - (s - 100) * 1e-5
+    ev = {"step": np.array([100, 150, 900, 900, 900]),
+          "x": np.array([0.0, 0.012, 0.015, 0.0, 0.04]),
+          "y": np.array([0.0, 0.0, 0.0, 0.003, 0.0]),
+          # at step 900 the apex is 0.001 + 700/900 * 0.009 = 0.008 m deep
+          # (0.8 R: entry), at z = 0.492
+          "z": np.array([0.45, 0.5, 0.497, 0.46, 0.49])}
+    zones, hh, rr, z_tip = events_by_zone(ev, jack_step, jack_depth, z_ref, R, first_step=100)
+    assert z_tip == pytest.approx([0.5, 0.4995, 0.492, 0.492, 0.492])
+    assert hh == pytest.approx([-5.0, 0.05, 0.5, -3.2, -0.2])
+    assert rr == pytest.approx([0.0, 1.2, 1.5, 0.3, 4.0])
+    # step 100 is the first step: switch-on; the rest with the tip under 2R: entry
+    assert zones["switch_on"] == 1 and zones["entry"] == 4 and zones["penetration"] == 0
+    # a deeper series: the step-900 events are now during penetration
+    deep = jack_depth * 4.0                      # apex 32 mm = 3.2 R deep at step 900
+    zones, hh, rr, _ = events_by_zone(ev, jack_step, deep, z_ref, R, first_step=100)
+    assert hh[2:] == pytest.approx([2.9, -0.8, 2.2])     # apex at 0.468 m
+    assert (zones["in_zone"], zones["along_shaft"], zones["elsewhere"]) == (1, 1, 1)
+    # crushing on before jacking: no switch-on, and events before the first
+    # step say so by themselves
+    zones, *_ = events_by_zone(ev, jack_step, deep, z_ref, R, first_step=100,
+                               crushing_before=True)
+    assert zones["switch_on"] == 0
+    zones, *_ = events_by_zone(ev, jack_step, deep, z_ref, R, first_step=150)
+    assert zones["prep"] == 1 and zones["switch_on"] == 0

@@ -10,8 +10,8 @@ import numpy as np
 from ..breakage import break_fines
 from ..formats import SUMMARY as S
 from ..fields import cell_breakage, event_density
-from ..pile import (UTILISATION_ZONES, ZONE_DEPTH_MIN, ZONE_H_BELOW, ZONE_R_MAX, break_zones,
-                    event_phases, inside_pile, relative_to_tip, tip_z_at, utilisation_by_zone)
+from ..pile import (UTILISATION_ZONES, ZONE_DEPTH_MIN, ZONE_H_BELOW, ZONE_R_MAX, events_by_zone,
+                    inside_pile, relative_to_tip, utilisation_by_zone)
 from .common import D_MAX_REAL, D_MIN_REAL, _pile_outline, _plt, _short_label, _state_label
 
 
@@ -191,17 +191,10 @@ def _fig_bands(rep, ctx):
                "of the breaks whose parent was in it, against its grains at the first state.")
 
 
-def _zones(rep, ctx, events, hh, rr, z_tip):
-    """Events by zone (crushpost.pile.break_zones): switch-on, entry, the
+def _zones(rep, ctx, zones):
+    """Events by zone (crushpost.pile.events_by_zone): switch-on, entry, the
     crushing zone at the cone, along the shaft, beyond 5R below the tip;
     all zero for an empty event log (fraction_in_zone then undefined)."""
-    first_step = ctx.get("jack_first_step")
-    # crushing on before jacking (cpt_demo --crush-in-prep, or events before
-    # the first step): no switch-on
-    on_before = bool(ctx["summary"].get(S.crush_in_prep)) or (
-        first_step is not None and bool(np.any(events["step"] < first_step)))
-    prep, switch_on = event_phases(events["step"], first_step, on_before)
-    zones = break_zones(hh, rr, (ctx["z_ref"] - z_tip) / ctx["R"], switch_on, prep=prep)
     for k in ("switch_on", "entry", "penetration", "in_zone", "along_shaft", "beyond_5R_below",
               "elsewhere"):
         rep.head["events_" + k] = zones[k]
@@ -220,9 +213,10 @@ def _breakage_map(rep, ctx):
     if jack is None:
         rep.skip("breakage density map", "no tip position (jack.txt)")
         return
-    z_tip = tip_z_at(events["step"], jack["step"], jack["depth"], ctx["z_ref"])
-    hh, rr = relative_to_tip(events["x"], events["y"], events["z"], z_tip, R)
-    _zones(rep, ctx, events, hh, rr, z_tip)
+    zones, hh, rr, z_tip = events_by_zone(
+        events, jack["step"], jack["depth"], ctx["z_ref"], R, ctx.get("jack_first_step"),
+        crushing_before=bool(ctx["summary"].get(S.crush_in_prep)))
+    _zones(rep, ctx, zones)
     if events["step"].size == 0:
         # counted above: an empty log is a measurement (no break in any zone)
         rep.skip("breakage density map", "%s: no breakage event" % rep.path("breakage_events.txt"))
