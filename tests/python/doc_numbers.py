@@ -19,6 +19,7 @@ To add a number: quote it in the doc, add an entry here, and run
 
 import functools
 import json
+import math
 import re
 import statistics
 from pathlib import Path
@@ -326,7 +327,8 @@ ENTRIES += [
          100.0),
         ("chamber_peak_seed2024", r"in the zone \(55 %\), (\d+)\s+beyond 5 R",
          "events_beyond_5R_below", 1.0),
-        ("chamber_peak_seed2024", r"Br is ([\d.]+) in 1-2 R and 0.068", "Br_penetrated_1_2R", 1.0),
+        ("chamber_peak_seed2024", r"Br is ([\d.]+) in 1-2 R and 0.068 in 2-3 R, four",
+         "Br_penetrated_1_2R", 1.0),
         ("chamber_peak_seed2024", r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
          "Br_penetrated_2_3R", 1.0),
     )
@@ -442,6 +444,81 @@ ENTRIES += [
     N(_CR_DOC, r"its mean \(([\d.]+)\s+in 1-2 R, 0.027", CR, _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
     N(_CR_DOC, r"in 1-2 R, ([\d.]+) in 2-3 R\) is the number", CR,
       _cr_mean("Br_penetrated_2_3R", *_PRINTEDS)),
+]
+
+# the ninth piece: the peak pressure with the Weibull law, seed 2024, against
+# the peak reading on the same packing; and the two laws' weak tails (analytic)
+_PW24 = "chamber_peak_weibull_seed2024"
+ENTRIES += [
+    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+    for piece, pattern, key, scale in (
+        (_PW24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.39", "qc_steady_MPa", 1.0),
+        (_PW24, r"ratio of ([\d.]+) to the unbreakable reference; 124", "ratio", 1.0),
+        (_PW24, r"reference; (\d+) break events: 11 at", "n_break_events", 1.0),
+        (_PW24, r"124 break events: (\d+) at\s+switch-on", "events_switch_on", 1.0),
+        (_PW24, r"switch-on, (\d+) at entry, and of the 97", "events_entry", 1.0),
+        (_PW24, r"of the (\d+) during penetration 69", "events_penetration", 1.0),
+        (_PW24, r"during penetration (\d+) in the zone\s+\(71", "events_in_zone", 1.0),
+        (_PW24, r"in the zone\s+\((\d+) %\), 5 beyond", "fraction_in_zone", 100.0),
+        (_PW24, r"\(71 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+        (_PW24, r"5 beyond 5 R below the tip, (\d+) farther than 3 R out", "events_elsewhere", 1.0),
+        (_PW24, r"Br is ([\d.]+) in 1-2 R and 0.068 in\s+2-3 R\. \*\*It", "Br_penetrated_1_2R", 1.0),
+        (_PW24, r"0.121 in 1-2 R and ([\d.]+) in\s+2-3 R\. \*\*It", "Br_penetrated_2_3R", 1.0),
+        (_PW24, r"switch-on against 39, (\d+) beyond 5 R against 18", "events_beyond_5R_below", 1.0),
+        (_PW24, r"Br in 1-2 R ([\d.]+) against 0.140", "Br_penetrated_1_2R", 1.0),
+        ("chamber_peak_seed2024", r"packing \(seed 2024: q_c ([\d.]+) MPa, 151", "qc_steady_MPa", 1.0),
+        ("chamber_peak_seed2024", r"q_c 12.12 MPa, (\d+) events\) it keeps", "n_break_events", 1.0),
+        ("chamber_peak_seed2024", r"Br in 1-2 R 0.121 against ([\d.]+)\)", "Br_penetrated_1_2R", 1.0),
+        (_PW24, r"(\d+) at switch-on against 39", "events_switch_on", 1.0),
+        ("chamber_peak_seed2024", r"11 at switch-on against (\d+)", "events_switch_on", 1.0),
+        ("chamber_peak_seed2024", r"5 beyond 5 R against (\d+)", "events_beyond_5R_below", 1.0),
+        ("oedometer_peak_weibull", r"\(core void\s+ratio ([\d.]+) at 30 MPa against 0.52",
+         "e_core_at_30MPa", 1.0),
+        ("oedometer_printed", r"ratio 0.28 at 30 MPa against ([\d.]+), Br", "e_core_at_30MPa", 1.0),
+        ("oedometer_peak_weibull", r"against 0.52, Br ([\d.]+) against 0.10\)", "Br_at_30MPa", 1.0),
+        ("oedometer_printed", r"Br 0.51 against ([\d.]+)\), and its", "Br_at_30MPa", 1.0),
+    )
+]
+
+
+def _weibull_shape(cov):
+    """Shape k of the Weibull law whose coefficient of variation is cov
+    (bisection on sqrt(G(1 + 2/k) / G(1 + 1/k)^2 - 1), decreasing in k)."""
+    lo, hi = 0.5, 50.0
+    for _ in range(200):
+        k = 0.5 * (lo + hi)
+        c = math.sqrt(math.gamma(1 + 2 / k) / math.gamma(1 + 1 / k) ** 2 - 1)
+        lo, hi = (k, hi) if c > cov else (lo, k)
+    return k
+
+
+def _below_f(law, f, cov=0.36):
+    """Fraction (%) of strength draws below f: the printed normal law of mean
+    1 redrawn at f <= 0, or the Weibull law of mean 1 and the same CoV."""
+    if law == "weibull":
+        k = _weibull_shape(cov)
+        lam = 1.0 / math.gamma(1 + 1 / k)
+        return 100.0 * (1.0 - math.exp(-((f / lam) ** k)))
+    phi = lambda x: 0.5 * (1.0 + math.erf((x - 1.0) / (cov * math.sqrt(2.0))))  # noqa: E731
+    return 100.0 * (phi(f) - phi(0.0)) / (1.0 - phi(0.0))
+
+
+_PW_TRI = ("triaxial_peak_weibull", "triaxial_peak_weibull_seed2025")
+ENTRIES += [
+    N(_CR_DOC, r"\(0.36,\s+shape ([\d.]+)\)", CR, lambda d: _weibull_shape(0.36)),
+    N(_CR_DOC, r"it draws ([\d.]+) % of the grains below f = 0.1", CR,
+      lambda d: _below_f("weibull", 0.1)),
+    N(_CR_DOC, r"printed normal law's ([\d.]+) % \(redrawn", CR, lambda d: _below_f("normal", 0.1)),
+    N(_CR_DOC, r"and ([\d.]+) % below f = 0.2", CR, lambda d: _below_f("weibull", 0.2)),
+    N(_CR_DOC, r"below f = 0.2\s+against ([\d.]+) %", CR, lambda d: _below_f("normal", 0.2)),
+    N(_CR_DOC, r"below f = 0.4 \(([\d.]+) against", CR, lambda d: _below_f("weibull", 0.4)),
+    N(_CR_DOC, r"below f = 0.4 \(4.3 against ([\d.]+) %\)", CR, lambda d: _below_f("normal", 0.4)),
+    N(_CR_DOC, r"\(q_c within\s+(\d+) %", CR, _cr_drop(("chamber_peak_seed2024",), (_PW24,))),
+    N(_CR_DOC, r"triaxial\s+phi_cs \(([\d.]+) deg, seed mean\)", CR, _cr_mean("phi_cs_deg", *_PW_TRI)),
+    N(_CR_DOC, r"seed mean\) lies ([\d.]+) deg above", CR,
+      lambda d: _cr_mean("phi_cs_deg", *_PW_TRI)(d) - 33.5),
+    N(_CR_DOC, r"70 % of 97 is (\d+) events", CR,
+      lambda d: math.ceil(0.7 * _cr_piece(_PW24, "events_penetration")(d))),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
