@@ -454,7 +454,7 @@ ENTRIES += [
     for piece, pattern, key, scale in (
         (_PW24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.39", "qc_steady_MPa", 1.0),
         (_PW24, r"ratio of ([\d.]+) to the unbreakable reference; 124", "ratio", 1.0),
-        (_PW24, r"reference; (\d+) break events: 11 at", "n_break_events", 1.0),
+        (_PW24, r"reference; (\d+) break events: 11 at\s+switch-on, 16", "n_break_events", 1.0),
         (_PW24, r"124 break events: (\d+) at\s+switch-on", "events_switch_on", 1.0),
         (_PW24, r"switch-on, (\d+) at entry, and of the 97", "events_entry", 1.0),
         (_PW24, r"of the (\d+) during penetration 69", "events_penetration", 1.0),
@@ -519,6 +519,58 @@ ENTRIES += [
       lambda d: _cr_mean("phi_cs_deg", *_PW_TRI)(d) - 33.5),
     N(_CR_DOC, r"70 % of 97 is (\d+) events", CR,
       lambda d: math.ceil(0.7 * _cr_piece(_PW24, "events_penetration")(d))),
+]
+
+# the tenth piece: peak_weibull's second seed, its two seeds together and
+# against the peak reading's, and the decision's quotes
+_PW25 = "chamber_peak_weibull_seed2025"
+_PWS = (_PW24, _PW25)
+
+
+def _cr_pooled_fraction(*names):
+    """In-zone events over penetration events, both summed over the pieces (%)."""
+    return lambda d: 100.0 * (sum(d["runs"][n]["metrics"]["events_in_zone"] for n in names)
+                              / sum(d["runs"][n]["metrics"]["events_penetration"] for n in names))
+
+
+ENTRIES += [
+    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+    for piece, pattern, key, scale in (
+        (_PW25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.45", "qc_steady_MPa", 1.0),
+        (_PW25, r"a ratio of ([\d.]+) to the unbreakable reference; 119", "ratio", 1.0),
+        (_PW25, r"reference; (\d+)\s+break events: 11 at switch-on, 14", "n_break_events", 1.0),
+        (_PW25, r"119\s+break events: (\d+) at switch-on, 14", "events_switch_on", 1.0),
+        (_PW25, r"switch-on, (\d+) at entry, and of the 94", "events_entry", 1.0),
+        (_PW25, r"of the (\d+) during\s+penetration 61", "events_penetration", 1.0),
+        (_PW25, r"penetration (\d+) in the zone \(65", "events_in_zone", 1.0),
+        (_PW25, r"in the zone \((\d+) %\), 10 beyond", "fraction_in_zone", 100.0),
+        (_PW25, r"\(65 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+        (_PW25, r"10 beyond 5 R below the tip, (\d+) farther", "events_elsewhere", 1.0),
+        (_PW25, r"Br is ([\d.]+)\s+in 1-2 R and 0.063", "Br_penetrated_1_2R", 1.0),
+        (_PW25, r"0.138\s+in 1-2 R and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
+        (_PW25, r"124 and (\d+) events, 11", "n_break_events", 1.0),
+        (_PW25, r"Br in 1-2 R 0.121 and\s+([\d.]+)\. On", "Br_penetrated_1_2R", 1.0),
+        (_PW24, r"missed on the second: (\d+) and 65 %", "fraction_in_zone", 100.0),
+        (_PW25, r"missed on the second: 71 and (\d+) %", "fraction_in_zone", 100.0),
+        ("chamber_peak_seed2025", r"\(11 and 11 against\s+39 and (\d+)\)", "events_switch_on", 1.0),
+        (_PW25, r"fewer beyond 5 R \(5 and (\d+) against", "events_beyond_5R_below", 1.0),
+        ("chamber_peak_seed2025", r"against 18 and (\d+)\), puts", "events_beyond_5R_below", 1.0),
+        ("chamber_peak_seed2024", r"\(71 against\s+(\d+) %, 65", "fraction_in_zone", 100.0),
+        (_PW25, r"55 %, (\d+) against 48 %\)", "fraction_in_zone", 100.0),
+        (_P25, r"65 against (\d+) %\), and costs", "fraction_in_zone", 100.0),
+    )
+]
+ENTRIES += [
+    N(_CR_DOC, r"On the seeds' mean q_c \(([\d.]+) MPa\) the ratio is", CR, _cr_mean_qc(*_PWS)),
+    N(_CR_DOC, r"\(12.23 MPa\) the ratio is ([\d.]+), inside", CR, _cr_ratio_of_mean(*_PWS)),
+    N(_CR_DOC, r"65 % of the penetration breaks, (\d+) % of\s+the two seeds'", CR,
+      _cr_pooled_fraction(*_PWS)),
+    N(_CR_DOC, r"of\s+the two seeds' (\d+) together", CR,
+      lambda d: sum(d["runs"][n]["metrics"]["events_penetration"] for n in _PWS)),
+    N(_CR_DOC, r"\(mean q_c 12.23 against ([\d.]+) MPa, inside", CR, _cr_mean_qc(*_PEAKS)),
+    N(_CR_DOC, r"the ratio on both seeds \(([\d.]+) on the mean\)", CR, _cr_ratio_of_mean(*_PWS)),
+    N(_CR_DOC, r"no break along the shaft, and\s+(\d+) % of the penetration", CR,
+      _cr_pooled_fraction(*_PWS)),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
