@@ -69,6 +69,7 @@ CRUSH_READING_PRINTED = "pressure mean force normal size_law printed scatter nor
 GRAIN_MODELS = {
     "crushable_ne34": CRUSH_READING_PRINTED,
     "crushable_ne34_peak": "pressure peak force normal size_law printed scatter normal",
+    "crushable_ne34_peak_weibull": "pressure peak force normal size_law printed scatter weibull",
     "unbreakable": None,
 }
 

@@ -20,10 +20,11 @@ b. Utilisation: one grain held (not integrated) between two steel planes
    0.5 (printed reading) and 0.5 * 27/8 (peak pressure), to 1e-9; its other
    columns are the strength, the generation and the true mass. Under density
    scaling the true mass stays the sphere's mass while `mass` is scaled.
-   The named grain models inputs/crushable_ne34.in and crushable_ne34_peak.in
-   on the same held grain: F_n over the F_lim of the grain's own drawn
-   strength, the peak model's 27/8 times the printed one's; a crush_reading
-   given with the peak model stops the run.
+   The named grain models inputs/crushable_ne34.in, crushable_ne34_peak.in
+   and crushable_ne34_peak_weibull.in on the same held grain: F_n over the
+   F_lim of the grain's own drawn strength, the peak models' 27/8 times
+   the printed one's at their own strengths (the Weibull model draws
+   another); a crush_reading given with the peak model stops the run.
 c. Atom-style variables of inputs/crushable_ne34.in: v_sigma_lim and
    v_generation are per particle (the fix's per-atom values, differing
    between grains), not the fix's global vector; the same in a dump, a VTK
@@ -174,11 +175,14 @@ def test_utilisation_of_a_grain_at_half_its_limit(tmp_path, extra, expect_factor
 
 
 def test_named_grain_models_read_the_criterion_they_name(tmp_path):
-    """inputs/crushable_ne34.in and crushable_ne34_peak.in on the same held
-    grain (same seed: the same strength drawn): utilisation F_n / F_lim of the
-    grain's own strength, and the peak model's 3.375 times the printed one's."""
-    u = {}
-    for model, k in (("crushable_ne34", 1.0), ("crushable_ne34_peak", PEAK)):
+    """inputs/crushable_ne34.in, crushable_ne34_peak.in and
+    crushable_ne34_peak_weibull.in on the same held grain (same seed: the
+    same strength drawn by the same law): utilisation F_n / F_lim of the
+    grain's own strength, the peak model's 3.375 times the printed one's;
+    the Weibull model's strength is another draw."""
+    u, sigma = {}, {}
+    for model, k in (("crushable_ne34", 1.0), ("crushable_ne34_peak", PEAK),
+                      ("crushable_ne34_peak_weibull", PEAK)):
         res = cd.run(_held_deck(0.01, None, grain_block=model), tmp_path / model)
         (frame,) = harness.read_dump(res.path("held.txt"))
         sigma_own = frame["c_ca[1]"][0]
@@ -188,7 +192,11 @@ def test_named_grain_models_read_the_criterion_they_name(tmp_path):
         assert frame["c_ca[4]"][0] == pytest.approx(F_n / (k * cd.limit_force(sigma_own, r, es)),
                                                     rel=1e-9)
         u[model] = frame["c_ca[4]"][0]
+        sigma[model] = sigma_own
     assert u["crushable_ne34_peak"] / u["crushable_ne34"] == pytest.approx(1.0 / PEAK, rel=1e-12)
+    # the same seed and law draw the same strength; the Weibull law another
+    assert sigma["crushable_ne34_peak"] == sigma["crushable_ne34"]
+    assert sigma["crushable_ne34_peak_weibull"] != pytest.approx(sigma["crushable_ne34"], rel=1e-6)
 
 
 def test_named_grain_model_refuses_a_reading_of_its_own(tmp_path):
