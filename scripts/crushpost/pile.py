@@ -23,7 +23,8 @@ from .meshes import PILE_APEX_ANGLE_DEG
 
 __all__ = ["JACK_COLUMNS", "PHASE_PUSH", "PHASE_UNLOAD", "PHASE_PAUSE", "PHASE_DONE",
            "read_jack", "tip_z", "tip_z_at", "relative_to_tip", "pile_penetration",
-           "inside_pile", "event_phases", "break_zones", "events_by_zone", "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
+           "inside_pile", "event_phases", "break_zones", "events_by_zone",
+           "ZONE_R_MAX", "ZONE_H_BELOW", "ZONE_DEPTH_MIN",
            "UTILISATION_ZONES", "utilisation_by_zone"]
 
 #: Columns of the fix jack/pile time series, in file order.

@@ -504,6 +504,7 @@ def _below_f(law, f, cov=0.36):
 
 
 _PW_TRI = ("triaxial_peak_weibull", "triaxial_peak_weibull_seed2025")
+_PHI_CS_MAX = 33.5        # deg: the calibration's range's top, as the study's acceptance quotes it
 ENTRIES += [
     N(_CR_DOC, r"\(0.36,\s+shape ([\d.]+)\)", CR, lambda d: _weibull_shape(0.36)),
     N(_CR_DOC, r"it draws ([\d.]+) % of the grains below f = 0.1", CR,
@@ -516,7 +517,7 @@ ENTRIES += [
     N(_CR_DOC, r"\(q_c within\s+(\d+) %", CR, _cr_drop(("chamber_peak_seed2024",), (_PW24,))),
     N(_CR_DOC, r"triaxial\s+phi_cs \(([\d.]+) deg, seed mean\)", CR, _cr_mean("phi_cs_deg", *_PW_TRI)),
     N(_CR_DOC, r"seed mean\) lies ([\d.]+) deg above", CR,
-      lambda d: _cr_mean("phi_cs_deg", *_PW_TRI)(d) - 33.5),
+      lambda d: _cr_mean("phi_cs_deg", *_PW_TRI)(d) - _PHI_CS_MAX),
     N(_CR_DOC, r"70 % of 97 is (\d+) events", CR,
       lambda d: math.ceil(0.7 * _cr_piece(_PW24, "events_penetration")(d))),
 ]
@@ -661,7 +662,8 @@ ENTRIES += [
                          / _cr_piece("oedometer_peak", "Br_at_30MPa")(d) - 1.0)),
     N(_GM_DOC, r"critical-state angle, ([\d.]+) and 33.9 deg", CR, _cr_piece(_PW_TRI[0], "phi_cs_deg")),
     N(_GM_DOC, r"critical-state angle, 34.0 and ([\d.]+) deg", CR, _cr_piece(_PW_TRI[1], "phi_cs_deg")),
-    N(_GM_DOC, r"field, breaks its grains: (\d+) breaks at switch-on", CR, _cr_piece(_PW24, "events_switch_on")),
+    N(_GM_DOC, r"field, breaks its grains: (\d+) breaks at switch-on", CR,
+      _cr_piece(_PW24, "events_switch_on")),
     N(_GM_DOC, r"on each seed against (\d+)-39", CR, _cr_piece(_P25, "events_switch_on")),
     N(_GM_DOC, r"against 36-(\d+),", CR, _cr_piece("chamber_peak_seed2024", "events_switch_on")),
     N(_GM_DOC, r"\n?5 and (\d+) beyond 5 R below the tip against", CR,
@@ -669,9 +671,10 @@ ENTRIES += [
     N(_GM_DOC, r"the tip against 18 and (\d+), and 71", CR, _cr_piece(_P25, "events_beyond_5R_below")),
     N(_GM_DOC, r"penetration breaks in the zone against (\d+) and 48 %", CR,
       _cr_piece("chamber_peak_seed2024", "fraction_in_zone", 100.0)),
-    N(_GM_DOC, r"lies 0.4-([\d.]+) deg above", CR, lambda d: _cr_piece(_PW_TRI[0], "phi_cs_deg")(d) - 33.5),
+    N(_GM_DOC, r"lies 0.4-([\d.]+) deg above", CR,
+      lambda d: _cr_piece(_PW_TRI[0], "phi_cs_deg")(d) - _PHI_CS_MAX),
     N(_GM_DOC, r"printed model's first seed does by ([\d.]+) deg", CR,
-      lambda d: _cr_piece("triaxial_printed", "phi_cs_deg")(d) - 33.5),
+      lambda d: _cr_piece("triaxial_printed", "phi_cs_deg")(d) - _PHI_CS_MAX),
 ]
 ENTRIES += [N(_GM_DOC, _gm_cell(label, k), CR, value)
             for label, values in _GM_ROWS.items() for k, value in enumerate(values)]
