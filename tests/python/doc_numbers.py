@@ -528,10 +528,15 @@ _PW25 = "chamber_peak_weibull_seed2025"
 _PWS = (_PW24, _PW25)
 
 
+def _cr_sum(key, *names):
+    """A count summed over the pieces."""
+    return lambda d: sum(d["runs"][n]["metrics"][key] for n in names)
+
+
 def _cr_pooled_fraction(*names):
     """In-zone events over penetration events, both summed over the pieces (%)."""
-    return lambda d: 100.0 * (sum(d["runs"][n]["metrics"]["events_in_zone"] for n in names)
-                              / sum(d["runs"][n]["metrics"]["events_penetration"] for n in names))
+    return lambda d: 100.0 * (_cr_sum("events_in_zone", *names)(d)
+                              / _cr_sum("events_penetration", *names)(d))
 
 
 ENTRIES += [
@@ -567,7 +572,7 @@ ENTRIES += [
     N(_CR_DOC, r"65 % of the penetration breaks, (\d+) % of\s+the two seeds'", CR,
       _cr_pooled_fraction(*_PWS)),
     N(_CR_DOC, r"of\s+the two seeds' (\d+) together", CR,
-      lambda d: sum(d["runs"][n]["metrics"]["events_penetration"] for n in _PWS)),
+      _cr_sum("events_penetration", *_PWS)),
     N(_CR_DOC, r"\(mean q_c 12.23 against ([\d.]+) MPa, inside", CR, _cr_mean_qc(*_PEAKS)),
     N(_CR_DOC, r"the ratio on both seeds \(([\d.]+) on the mean\)", CR, _cr_ratio_of_mean(*_PWS)),
     N(_CR_DOC, r"no break along the shaft, and\s+(\d+) % of the penetration", CR,
@@ -649,7 +654,7 @@ ENTRIES += [
     N(_GM_DOC, r"\(Br\s+0.129 against ([\d.]+)\)", CR, _cr_mean("Br_penetrated_1_2R", *_PEAKS)),
     N(_GM_DOC, r"\((\d+) % over both seeds'", CR, _cr_pooled_fraction(*_PWS)),
     N(_GM_DOC, r"over both seeds'\s+(\d+) events", CR,
-      lambda d: sum(d["runs"][n]["metrics"]["events_penetration"] for n in _PWS)),
+      _cr_sum("events_penetration", *_PWS)),
     N(_GM_DOC, r"\(([\d.]+) % of\s+them below a tenth", CR, lambda d: _below_f("weibull", 0.1)),
     N(_GM_DOC, r"against the normal law's ([\d.]+) %\)", CR, lambda d: _below_f("normal", 0.1)),
     N(_GM_DOC, r"broken at ([\d.]+) against 0.74 MPa", CR,

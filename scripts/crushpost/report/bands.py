@@ -191,7 +191,7 @@ def _fig_bands(rep, ctx):
                "of the breaks whose parent was in it, against its grains at the first state.")
 
 
-def _zones(rep, ctx, zones):
+def _zones(rep, zones):
     """Events by zone (crushpost.pile.events_by_zone): switch-on, entry, the
     crushing zone at the cone, along the shaft, beyond 5R below the tip;
     all zero for an empty event log (fraction_in_zone then undefined)."""
@@ -216,7 +216,7 @@ def _breakage_map(rep, ctx):
     zones, hh, rr, z_tip = events_by_zone(
         events, jack["step"], jack["depth"], ctx["z_ref"], R, ctx.get("jack_first_step"),
         crushing_before=bool(ctx["summary"].get(S.crush_in_prep)))
-    _zones(rep, ctx, zones)
+    _zones(rep, zones)
     if events["step"].size == 0:
         # counted above: an empty log is a measurement (no break in any zone)
         rep.skip("breakage density map", "%s: no breakage event" % rep.path("breakage_events.txt"))
