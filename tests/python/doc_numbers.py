@@ -579,6 +579,53 @@ ENTRIES += [
       _cr_pooled_fraction(*_PWS)),
 ]
 
+# the printed reading with crushing on in the preparation (the study's eleventh
+# piece, and docs/cpt.md "Crushing during preparation"), against the printed reading
+_PC24 = "chamber_prep_crush_seed2024"
+ENTRIES += [
+    N(doc, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+    for doc, piece, pattern, key, scale in (
+        (_CR_DOC, _PC24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.05", "qc_steady_MPa", 1.0),
+        (_CR_DOC, _PC24, r"ratio of ([\d.]+) to the unbreakable reference; 82", "ratio", 1.0),
+        (_CR_DOC, _PC24, r"reference; (\d+) break events: 22 during", "n_break_events", 1.0),
+        (_CR_DOC, _PC24, r"82 break events: (\d+) during the", "n_break_events_prep", 1.0),
+        (_CR_DOC, _PC24, r"none at switch-on, (\d+) at entry, and of the 53", "events_entry", 1.0),
+        (_CR_DOC, _PC24, r"and of the (\d+) during\s+penetration 23", "events_penetration", 1.0),
+        (_CR_DOC, _PC24, r"penetration (\d+) in the zone \(43 %\) and 9", "events_in_zone", 1.0),
+        (_CR_DOC, _PC24, r"23 in the zone \((\d+) %\) and 9 beyond", "fraction_in_zone", 100.0),
+        (_CR_DOC, _PC24, r"\(43 %\) and (\d+) beyond 5 R below the tip, none", "events_beyond_5R_below",
+         1.0),
+        (_CR_DOC, _PC24, r"Br is ([\d.]+) in 1-2 R and 0.033", "Br_penetrated_1_2R", 1.0),
+        (_CR_DOC, _PC24, r"0.038 in 1-2 R and ([\d.]+) in\s+2-3 R", "Br_penetrated_2_3R", 1.0),
+        (_CR_DOC, "chamber_printed_seed2024", r"\(q_c ([\d.]+)\s+MPa; 22 switch-on", "qc_steady_MPa",
+         1.0),
+        (_CR_DOC, "chamber_printed_seed2024", r"MPa; (\d+) switch-on events, 49", "events_switch_on",
+         1.0),
+        (_CR_DOC, "chamber_printed_seed2024", r"switch-on events, (\d+) during penetration, 21",
+         "events_penetration", 1.0),
+        (_CR_DOC, "chamber_printed_seed2024", r"during penetration, (\d+) of them in the zone",
+         "events_in_zone", 1.0),
+        (_CR_DOC, "chamber_printed_seed2024", r"of them in the zone,\s+(\d+) %\)",
+         "fraction_in_zone", 100.0),
+        (_CR_DOC, "chamber_printed_seed2024", r"reading's (\d+) breaks at switch-on become",
+         "events_switch_on", 1.0),
+        (_CR_DOC, _PC24, r"become (\d+) breaks during the preparation", "n_break_events_prep", 1.0),
+        ("docs/cpt.md", "chamber_printed_seed2024", r"2 ranks\): the (\d+)\s+breaks the default",
+         "events_switch_on", 1.0),
+        ("docs/cpt.md", _PC24, r"during the preparation\s+instead \((\d+) there", "n_break_events_prep",
+         1.0),
+        ("docs/cpt.md", _PC24, r"q_c ([\d.]+) against 16.56 MPa", "qc_steady_MPa", 1.0),
+        ("docs/cpt.md", "chamber_printed_seed2024", r"q_c 16.50 against ([\d.]+) MPa", "qc_steady_MPa",
+         1.0),
+        ("docs/cpt.md", _PC24, r"MPa, (\d+) against 49\s+breaks", "events_penetration", 1.0),
+        ("docs/cpt.md", "chamber_printed_seed2024", r"53 against (\d+)\s+breaks", "events_penetration",
+         1.0),
+        ("docs/cpt.md", _PC24, r"(\d+) % of them in the zone on both", "fraction_in_zone", 100.0),
+        ("docs/cpt.md", "chamber_printed_seed2024", r"(\d+) % of them in the zone on both",
+         "fraction_in_zone", 100.0),
+    )
+]
+
 # docs/grain_models.md: its table, printed against peak, from the study's records
 _GM_DOC = "docs/grain_models.md"
 
