@@ -610,19 +610,97 @@ ENTRIES += [
         (_CR_DOC, "chamber_printed_seed2024", r"reading's (\d+) breaks at switch-on become",
          "events_switch_on", 1.0),
         (_CR_DOC, _PC24, r"become (\d+) breaks during the preparation", "n_break_events_prep", 1.0),
-        ("docs/cpt.md", "chamber_printed_seed2024", r"2 ranks\): the (\d+)\s+breaks the default",
-         "events_switch_on", 1.0),
-        ("docs/cpt.md", _PC24, r"during the preparation\s+instead \((\d+) there", "n_break_events_prep",
-         1.0),
-        ("docs/cpt.md", _PC24, r"q_c ([\d.]+) against 16.56 MPa", "qc_steady_MPa", 1.0),
-        ("docs/cpt.md", "chamber_printed_seed2024", r"q_c 16.50 against ([\d.]+) MPa", "qc_steady_MPa",
-         1.0),
-        ("docs/cpt.md", _PC24, r"MPa, (\d+) against 49\s+breaks", "events_penetration", 1.0),
-        ("docs/cpt.md", "chamber_printed_seed2024", r"53 against (\d+)\s+breaks", "events_penetration",
-         1.0),
-        ("docs/cpt.md", _PC24, r"(\d+) % of them in the zone on both", "fraction_in_zone", 100.0),
-        ("docs/cpt.md", "chamber_printed_seed2024", r"(\d+) % of them in the zone on both",
-         "fraction_in_zone", 100.0),
+    )
+]
+
+# the twelfth piece (prep_crush, seed 2025), its seeds against the printed
+# reading's, and docs/cpt.md's summary of both
+_PC25 = "chamber_prep_crush_seed2025"
+_PREP_CRUSH = (_PC24, _PC25)
+
+
+def _cr_rise(name, than):
+    """How much higher (%) the q_c of piece `name` is than that of `than`."""
+    return lambda d: 100.0 * (_cr_piece(name, "qc_steady_MPa")(d) / _cr_piece(than, "qc_steady_MPa")(d)
+                              - 1.0)
+
+
+def _cr_seed_spreads(d):
+    """How far apart (%) the two seeds' q_c are, for every reading run on both."""
+    runs = d["runs"]
+    out = []
+    for n24 in runs:
+        n25 = n24.replace("_seed2024", "_seed2025")
+        if (n24.startswith("chamber_") and n24.endswith("_seed2024") and n25 in runs
+                and runs[n24]["role"] == "reading"):
+            q = sorted(runs[n]["metrics"]["qc_steady_MPa"] for n in (n24, n25))
+            out.append(100.0 * (q[1] / q[0] - 1.0))
+    return out
+
+
+ENTRIES += [
+    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+    for piece, pattern, key, scale in (
+        (_PC25, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.95", "qc_steady_MPa", 1.0),
+        (_PC25, r"a ratio of ([\d.]+) to the unbreakable reference; 69", "ratio", 1.0),
+        (_PC25, r"reference; (\d+) break\s+events: 23 during", "n_break_events", 1.0),
+        (_PC25, r"69 break\s+events: (\d+) during the preparation", "n_break_events_prep", 1.0),
+        (_PC25, r"none at switch-on, (\d+) at entry, and of\s+the 36", "events_entry", 1.0),
+        (_PC25, r"and of\s+the (\d+) during penetration 17", "events_penetration", 1.0),
+        (_PC25, r"during penetration (\d+) in the zone \(47 %\)", "events_in_zone", 1.0),
+        (_PC25, r"17 in the zone \((\d+) %\) and 5 beyond", "fraction_in_zone", 100.0),
+        (_PC25, r"\(47 %\) and (\d+) beyond 5 R below the\s+tip", "events_beyond_5R_below", 1.0),
+        (_PC25, r"Br is ([\d.]+) in 1-2 R\s+and 0.006", "Br_penetrated_1_2R", 1.0),
+        (_PC25, r"0.050 in 1-2 R\s+and ([\d.]+) in 2-3 R", "Br_penetrated_2_3R", 1.0),
+        (_R25, r"reading's (\d+) switch-on breaks on this seed", "events_switch_on", 1.0),
+        (_PC25, r"on this seed become (\d+) during the", "n_break_events_prep", 1.0),
+        (_PC25, r"penetration breaks (\d+) grains against the printed", "events_penetration", 1.0),
+        (_R25, r"grains against the printed\s+reading's (\d+), 17", "events_penetration", 1.0),
+        (_PC25, r"reading's 39, (\d+) of them in the zone against 18", "events_in_zone", 1.0),
+        (_R25, r"in the zone against (\d+) \(47 against", "events_in_zone", 1.0),
+        (_PC25, r"against 18 \((\d+) against 46 %\)", "fraction_in_zone", 100.0),
+        (_R25, r"\(47 against (\d+) %\)\. Its q_c", "fraction_in_zone", 100.0),
+        (_PC25, r"packing seed \(([\d.]+)\s+against 15.83 MPa\)", "qc_steady_MPa", 1.0),
+        (_R25, r"packing seed \(18.13\s+against ([\d.]+) MPa\)", "qc_steady_MPa", 1.0),
+    )
+]
+ENTRIES += [
+    N(_CR_DOC, r"Its q_c\s+is (\d+) % above the printed reading's", CR, _cr_rise(_PC25, _R25)),
+    N(_CR_DOC, r"both differ by (\d+)-10 %", CR, lambda d: min(_cr_seed_spreads(d))),
+    N(_CR_DOC, r"both differ by 4-(\d+) %", CR, lambda d: max(_cr_seed_spreads(d))),
+    N(_CR_DOC, r"\(the first differs by ([\d.]+) %\)", CR,
+      lambda d: abs(_cr_rise(_PC24, "chamber_printed_seed2024")(d))),
+    N(_CR_DOC, r"this difference is about ([\d.]+) times that scatter", CR,
+      lambda d: _cr_rise(_PC25, _R25)(d) / (100.0 * _pooled_ratio(json.loads(
+          (Path(__file__).resolve().parents[2] / EVR_TABLE).read_text()))[1])),
+    N(_CR_DOC, r"On the seeds' means\s+\(([\d.]+) against 16.20 MPa", CR, _cr_mean_qc(*_PREP_CRUSH)),
+    N(_CR_DOC, r"\(17.31 against ([\d.]+) MPa, \d+ % apart\)", CR, _cr_mean_qc(*_PRINTEDS)),
+    N(_CR_DOC, r"16.20 MPa, (\d+) % apart\)", CR,
+      lambda d: 100.0 * (_cr_mean_qc(*_PREP_CRUSH)(d) / _cr_mean_qc(*_PRINTEDS)(d) - 1.0)),
+    N(_CR_DOC, r"% apart\) the ratio is ([\d.]+) against the printed", CR, _cr_ratio_of_mean(*_PREP_CRUSH)),
+    N(_CR_DOC, r"ratio is 1.00 against the printed\s+reading's ([\d.]+), and", CR,
+      _cr_ratio_of_mean(*_PRINTEDS)),
+    N(_CR_DOC, r"and (\d+) % of the two seeds' 89 penetration", CR, _cr_pooled_fraction(*_PREP_CRUSH)),
+    N(_CR_DOC, r"of the two seeds' (\d+) penetration breaks lie", CR,
+      _cr_sum("events_penetration", *_PREP_CRUSH)),
+    N(_CR_DOC, r"\(a ratio of ([\d.]+)\s+on its seeds' mean", CR, _cr_ratio_of_mean(*_PREP_CRUSH)),
+    N(_CR_DOC, r"on its seeds' mean, (\d+) % of the penetration", CR, _cr_pooled_fraction(*_PREP_CRUSH)),
+]
+ENTRIES += [
+    N("docs/cpt.md", pattern, CR, value) for pattern, value in (
+        (r"the (\d+) breaks\s+the default run has at switch-on", _cr_printed("events_switch_on")),
+        (r"\((\d+) and 23 there, none at switch-on\)", _cr_piece(_PC24, "n_break_events_prep")),
+        (r"\(22 and (\d+) there, none at switch-on\)", _cr_piece(_PC25, "n_break_events_prep")),
+        (r"one seed's q_c: ([\d.]+) and 18.13", _cr_piece(_PC24, "qc_steady_MPa")),
+        (r"one seed's q_c: 16.50 and ([\d.]+)", _cr_piece(_PC25, "qc_steady_MPa")),
+        (r"against ([\d.]+) and\s+15.83 MPa", _cr_printed("qc_steady_MPa")),
+        (r"against 16.56 and\s+([\d.]+) MPa", _cr_piece(_R25, "qc_steady_MPa")),
+        (r"\(([\d.]+) and 15 % higher", lambda d: abs(_cr_rise(_PC24, "chamber_printed_seed2024")(d))),
+        (r"\(0.4 and (\d+) % higher", _cr_rise(_PC25, _R25)),
+        (r"(\d+) and 47 % of the penetration", _cr_piece(_PC24, "fraction_in_zone", 100.0)),
+        (r"43 and (\d+) % of the penetration", _cr_piece(_PC25, "fraction_in_zone", 100.0)),
+        (r"in the zone against (\d+) and 46 %", _cr_printed("fraction_in_zone", 100.0)),
+        (r"in the zone against 43 and (\d+) %", _cr_piece(_R25, "fraction_in_zone", 100.0)),
     )
 ]
 
