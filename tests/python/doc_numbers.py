@@ -291,6 +291,12 @@ def _cr_unbreakable_qc():
                            for n in ("chamber_rigid_ref", "chamber_rigid_ref_seed2025"))
 
 
+def _cr_rows(rows, doc=_CR_DOC):
+    """Entries for rows (piece, pattern, metric or "ratio", scale) of `doc`."""
+    return [N(doc, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
+            for piece, pattern, key, scale in rows]
+
+
 ENTRIES += [
     N(_CR_DOC, r"The printed reading, seed 2024: steady q_c ([\d.]+) MPa", CR,
       _cr_printed("qc_steady_MPa")),
@@ -302,37 +308,34 @@ ENTRIES += [
       _cr_printed("Br_penetrated_2_3R")),
     N(_CR_DOC, r"([\d]+) break events, 22 of them at switch-on", CR,
       _cr_printed("n_break_events")),
-] + [
+] + _cr_rows((
     # each chamber piece's quoted numbers: (piece, pattern, metric or "ratio", scale)
-    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
-    for piece, pattern, key, scale in (
-        ("chamber_peak_truncated_0.5_seed2024", r"Steady q_c ([\d.]+) MPa, a ratio of\s+1.10",
-         "qc_steady_MPa", 1.0),
-        ("chamber_peak_truncated_0.5_seed2024",
-         r"a ratio of\s+([\d.]+) to the unbreakable reference; 7 break", "ratio", 1.0),
-        ("chamber_peak_truncated_0.5_seed2024", r"reference; (\d+) break events, every one",
-         "n_break_events", 1.0),
-        ("chamber_peak_truncated_0.5_seed2024",
-         r"penetrated layers Br is ([\d.]+) in 1-2 R and 0.002", "Br_penetrated_1_2R", 1.0),
-        ("chamber_peak_truncated_0.5_seed2024", r"0.018 in 1-2 R and ([\d.]+) in 2-3 R\. This",
-         "Br_penetrated_2_3R", 1.0),
-        ("chamber_peak_seed2024", r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.43", "qc_steady_MPa", 1.0),
-        ("chamber_peak_seed2024", r"a ratio of ([\d.]+) to the unbreakable reference: inside",
-         "ratio", 1.0),
-        ("chamber_peak_seed2024", r"(\d+) break events: 39 at switch-on", "n_break_events", 1.0),
-        ("chamber_peak_seed2024", r"events: (\d+) at switch-on,\s+20 at entry",
-         "events_switch_on", 1.0),
-        ("chamber_peak_seed2024", r"of the (\d+) during penetration 51", "events_penetration", 1.0),
-        ("chamber_peak_seed2024", r"penetration 51 in the zone \((\d+) %\)", "fraction_in_zone",
-         100.0),
-        ("chamber_peak_seed2024", r"in the zone \(55 %\), (\d+)\s+beyond 5 R",
-         "events_beyond_5R_below", 1.0),
-        ("chamber_peak_seed2024", r"Br is ([\d.]+) in 1-2 R and 0.068 in 2-3 R, four",
-         "Br_penetrated_1_2R", 1.0),
-        ("chamber_peak_seed2024", r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
-         "Br_penetrated_2_3R", 1.0),
-    )
-]
+    ("chamber_peak_truncated_0.5_seed2024", r"Steady q_c ([\d.]+) MPa, a ratio of\s+1.10",
+     "qc_steady_MPa", 1.0),
+    ("chamber_peak_truncated_0.5_seed2024",
+     r"a ratio of\s+([\d.]+) to the unbreakable reference; 7 break", "ratio", 1.0),
+    ("chamber_peak_truncated_0.5_seed2024", r"reference; (\d+) break events, every one",
+     "n_break_events", 1.0),
+    ("chamber_peak_truncated_0.5_seed2024",
+     r"penetrated layers Br is ([\d.]+) in 1-2 R and 0.002", "Br_penetrated_1_2R", 1.0),
+    ("chamber_peak_truncated_0.5_seed2024", r"0.018 in 1-2 R and ([\d.]+) in 2-3 R\. This",
+     "Br_penetrated_2_3R", 1.0),
+    ("chamber_peak_seed2024", r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.43", "qc_steady_MPa", 1.0),
+    ("chamber_peak_seed2024", r"a ratio of ([\d.]+) to the unbreakable reference: inside",
+     "ratio", 1.0),
+    ("chamber_peak_seed2024", r"(\d+) break events: 39 at switch-on", "n_break_events", 1.0),
+    ("chamber_peak_seed2024", r"events: (\d+) at switch-on,\s+20 at entry",
+     "events_switch_on", 1.0),
+    ("chamber_peak_seed2024", r"of the (\d+) during penetration 51", "events_penetration", 1.0),
+    ("chamber_peak_seed2024", r"penetration 51 in the zone \((\d+) %\)", "fraction_in_zone",
+     100.0),
+    ("chamber_peak_seed2024", r"in the zone \(55 %\), (\d+)\s+beyond 5 R",
+     "events_beyond_5R_below", 1.0),
+    ("chamber_peak_seed2024", r"Br is ([\d.]+) in 1-2 R and 0.068 in 2-3 R, four",
+     "Br_penetrated_1_2R", 1.0),
+    ("chamber_peak_seed2024", r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
+     "Br_penetrated_2_3R", 1.0),
+))
 
 # the peak reading's second seed and the Weibull reading's first (the study's
 # Status), as rows of the table above, then the peak reading's two seeds together
@@ -344,62 +347,59 @@ _PRINTEDS = ("chamber_printed_seed2024", _R25)
 _B25 = "chamber_peak_truncated_0.5_seed2025"
 _BOUNDED = ("chamber_peak_truncated_0.5_seed2024", _B25)
 _PEAKS = ("chamber_peak_seed2024", _P25)
-ENTRIES += [
-    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
-    for piece, pattern, key, scale in (
-        (_P25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", "qc_steady_MPa", 1.0),
-        (_P25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 153", "ratio", 1.0),
-        (_P25, r"reference; (\d+) break events: 36 at switch-on", "n_break_events", 1.0),
-        (_P25, r"153 break events: (\d+) at switch-on, 26", "events_switch_on", 1.0),
-        (_P25, r"36 at switch-on, (\d+) at entry, and", "events_entry", 1.0),
-        (_P25, r"of the (\d+) during penetration 44", "events_penetration", 1.0),
-        (_P25, r"during penetration (\d+) in the zone \(48", "events_in_zone", 1.0),
-        (_P25, r"in the zone \((\d+) %\), 19 beyond", "fraction_in_zone", 100.0),
-        (_P25, r"\(48 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
-        (_P25, r"Br is ([\d.]+) in 1-2 R\s+and 0.024", "Br_penetrated_1_2R", 1.0),
-        (_P25, r"0.123 in 1-2 R\s+and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
-        (_W24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09 to the unbreakable reference; 38",
-         "qc_steady_MPa", 1.0),
-        (_W24, r"a ratio of ([\d.]+) to the unbreakable reference; 38", "ratio", 1.0),
-        (_W24, r"reference; (\d+) break\s+events: 3 at switch-on", "n_break_events", 1.0),
-        (_W24, r"38 break\s+events: (\d+) at switch-on, 6", "events_switch_on", 1.0),
-        (_W24, r"3 at switch-on, (\d+) at entry, and of the 29", "events_entry", 1.0),
-        (_W24, r"of the (\d+) during penetration 18 in\s+the zone \(62", "events_penetration", 1.0),
-        (_W24, r"during penetration (\d+) in\s+the zone \(62", "events_in_zone", 1.0),
-        (_W24, r"the zone \((\d+) %\), none beyond 5 R", "fraction_in_zone", 100.0),
-        (_W24, r"layers Br is ([\d.]+) in 1-2 R and 0.014", "Br_penetrated_1_2R", 1.0),
-        (_W24, r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", "Br_penetrated_2_3R", 1.0),
-        (_W24, r"`weibull` 38 events and a ratio of ([\d.]+),", "ratio", 1.0),
-        (_T24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.99", "qc_steady_MPa", 1.0),
-        (_T24, r"a ratio of ([\d.]+) to the unbreakable reference: this run", "ratio", 1.0),
-        (_T24, r"\*\*Not one grain broke\*\*: (\d+) events", "n_break_events", 1.0),
-        (_T24, r"Br over the\s+penetrated layers is ([\d.]+) in 1-2 R and 0.0029",
-         "Br_penetrated_1_2R", 1.0),
-        (_T24, r"0.0077 in 1-2 R and ([\d.]+) in 2-3 R, because", "Br_penetrated_2_3R", 1.0),
-        (_T24, r"`truncated_0.5` no break\s+and ([\d.]+)\.", "ratio", 1.0),
-        (_R25, r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.09 to the unbreakable reference; 74",
-         "qc_steady_MPa", 1.0),
-        (_R25, r"MPa, a ratio of ([\d.]+) to the unbreakable reference; 74", "ratio", 1.0),
-        (_R25, r"reference; (\d+) break events: 22 at\s+switch-on, 13", "n_break_events", 1.0),
-        (_R25, r"74 break events: (\d+) at\s+switch-on, 13", "events_switch_on", 1.0),
-        (_R25, r"switch-on, (\d+) at entry, and of the 39", "events_entry", 1.0),
-        (_R25, r"of the (\d+) during penetration 18 in the zone\s+\(46", "events_penetration", 1.0),
-        (_R25, r"during penetration (\d+) in the zone\s+\(46", "events_in_zone", 1.0),
-        (_R25, r"in the zone\s+\((\d+) %\), 9 beyond", "fraction_in_zone", 100.0),
-        (_R25, r"\(46 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
-        (_R25, r"\(46 %\), 9 beyond 5 R below the tip, (\d+) farther than 3 R out",
-         "events_elsewhere", 1.0),
-        (_R25, r"Br is ([\d.]+) in 1-2 R and 0.011", "Br_penetrated_1_2R", 1.0),
-        (_R25, r"0.052 in 1-2 R and ([\d.]+) in 2-3 R\.\s+The printed", "Br_penetrated_2_3R", 1.0),
-        (_B25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.02", "qc_steady_MPa", 1.0),
-        (_B25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 10", "ratio", 1.0),
-        (_B25, r"reference; (\d+) break events, all during", "n_break_events", 1.0),
-        (_B25, r"layers Br is\s+([\d.]+) in 1-2 R and 0.0005", "Br_penetrated_1_2R", 1.0),
-        (_B25, r"in 1-2 R and ([\d.]+) in 2-3 R\. It repeats", "Br_penetrated_2_3R", 1.0),
-        (_R25, r"80 and (\d+) events, 22 at switch-on", "n_break_events", 1.0),
-        (_R25, r"43 and (\d+) % of the penetration breaks", "fraction_in_zone", 100.0),
-    )
-]
+ENTRIES += _cr_rows((
+    (_P25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", "qc_steady_MPa", 1.0),
+    (_P25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 153", "ratio", 1.0),
+    (_P25, r"reference; (\d+) break events: 36 at switch-on", "n_break_events", 1.0),
+    (_P25, r"153 break events: (\d+) at switch-on, 26", "events_switch_on", 1.0),
+    (_P25, r"36 at switch-on, (\d+) at entry, and", "events_entry", 1.0),
+    (_P25, r"of the (\d+) during penetration 44", "events_penetration", 1.0),
+    (_P25, r"during penetration (\d+) in the zone \(48", "events_in_zone", 1.0),
+    (_P25, r"in the zone \((\d+) %\), 19 beyond", "fraction_in_zone", 100.0),
+    (_P25, r"\(48 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+    (_P25, r"Br is ([\d.]+) in 1-2 R\s+and 0.024", "Br_penetrated_1_2R", 1.0),
+    (_P25, r"0.123 in 1-2 R\s+and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
+    (_W24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 1.09 to the unbreakable reference; 38",
+     "qc_steady_MPa", 1.0),
+    (_W24, r"a ratio of ([\d.]+) to the unbreakable reference; 38", "ratio", 1.0),
+    (_W24, r"reference; (\d+) break\s+events: 3 at switch-on", "n_break_events", 1.0),
+    (_W24, r"38 break\s+events: (\d+) at switch-on, 6", "events_switch_on", 1.0),
+    (_W24, r"3 at switch-on, (\d+) at entry, and of the 29", "events_entry", 1.0),
+    (_W24, r"of the (\d+) during penetration 18 in\s+the zone \(62", "events_penetration", 1.0),
+    (_W24, r"during penetration (\d+) in\s+the zone \(62", "events_in_zone", 1.0),
+    (_W24, r"the zone \((\d+) %\), none beyond 5 R", "fraction_in_zone", 100.0),
+    (_W24, r"layers Br is ([\d.]+) in 1-2 R and 0.014", "Br_penetrated_1_2R", 1.0),
+    (_W24, r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", "Br_penetrated_2_3R", 1.0),
+    (_W24, r"`weibull` 38 events and a ratio of ([\d.]+),", "ratio", 1.0),
+    (_T24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.99", "qc_steady_MPa", 1.0),
+    (_T24, r"a ratio of ([\d.]+) to the unbreakable reference: this run", "ratio", 1.0),
+    (_T24, r"\*\*Not one grain broke\*\*: (\d+) events", "n_break_events", 1.0),
+    (_T24, r"Br over the\s+penetrated layers is ([\d.]+) in 1-2 R and 0.0029",
+     "Br_penetrated_1_2R", 1.0),
+    (_T24, r"0.0077 in 1-2 R and ([\d.]+) in 2-3 R, because", "Br_penetrated_2_3R", 1.0),
+    (_T24, r"`truncated_0.5` no break\s+and ([\d.]+)\.", "ratio", 1.0),
+    (_R25, r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.09 to the unbreakable reference; 74",
+     "qc_steady_MPa", 1.0),
+    (_R25, r"MPa, a ratio of ([\d.]+) to the unbreakable reference; 74", "ratio", 1.0),
+    (_R25, r"reference; (\d+) break events: 22 at\s+switch-on, 13", "n_break_events", 1.0),
+    (_R25, r"74 break events: (\d+) at\s+switch-on, 13", "events_switch_on", 1.0),
+    (_R25, r"switch-on, (\d+) at entry, and of the 39", "events_entry", 1.0),
+    (_R25, r"of the (\d+) during penetration 18 in the zone\s+\(46", "events_penetration", 1.0),
+    (_R25, r"during penetration (\d+) in the zone\s+\(46", "events_in_zone", 1.0),
+    (_R25, r"in the zone\s+\((\d+) %\), 9 beyond", "fraction_in_zone", 100.0),
+    (_R25, r"\(46 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+    (_R25, r"\(46 %\), 9 beyond 5 R below the tip, (\d+) farther than 3 R out",
+     "events_elsewhere", 1.0),
+    (_R25, r"Br is ([\d.]+) in 1-2 R and 0.011", "Br_penetrated_1_2R", 1.0),
+    (_R25, r"0.052 in 1-2 R and ([\d.]+) in 2-3 R\.\s+The printed", "Br_penetrated_2_3R", 1.0),
+    (_B25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.02", "qc_steady_MPa", 1.0),
+    (_B25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 10", "ratio", 1.0),
+    (_B25, r"reference; (\d+) break events, all during", "n_break_events", 1.0),
+    (_B25, r"layers Br is\s+([\d.]+) in 1-2 R and 0.0005", "Br_penetrated_1_2R", 1.0),
+    (_B25, r"in 1-2 R and ([\d.]+) in 2-3 R\. It repeats", "Br_penetrated_2_3R", 1.0),
+    (_R25, r"80 and (\d+) events, 22 at switch-on", "n_break_events", 1.0),
+    (_R25, r"43 and (\d+) % of the penetration breaks", "fraction_in_zone", 100.0),
+))
 
 # the zero-break run against the printed reading on the same packing, and
 # the band Br's floor it measures
@@ -449,36 +449,33 @@ ENTRIES += [
 # the ninth piece: the peak pressure with the Weibull law, seed 2024, against
 # the peak reading on the same packing; and the two laws' weak tails (analytic)
 _PW24 = "chamber_peak_weibull_seed2024"
-ENTRIES += [
-    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
-    for piece, pattern, key, scale in (
-        (_PW24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.39", "qc_steady_MPa", 1.0),
-        (_PW24, r"ratio of ([\d.]+) to the unbreakable reference; 124", "ratio", 1.0),
-        (_PW24, r"reference; (\d+) break events: 11 at\s+switch-on, 16", "n_break_events", 1.0),
-        (_PW24, r"124 break events: (\d+) at\s+switch-on", "events_switch_on", 1.0),
-        (_PW24, r"switch-on, (\d+) at entry, and of the 97", "events_entry", 1.0),
-        (_PW24, r"of the (\d+) during penetration 69", "events_penetration", 1.0),
-        (_PW24, r"during penetration (\d+) in the zone\s+\(71", "events_in_zone", 1.0),
-        (_PW24, r"in the zone\s+\((\d+) %\), 5 beyond", "fraction_in_zone", 100.0),
-        (_PW24, r"\(71 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
-        (_PW24, r"5 beyond 5 R below the tip, (\d+) farther than 3 R out", "events_elsewhere", 1.0),
-        (_PW24, r"Br is ([\d.]+) in 1-2 R and 0.068 in\s+2-3 R\. \*\*It", "Br_penetrated_1_2R", 1.0),
-        (_PW24, r"0.121 in 1-2 R and ([\d.]+) in\s+2-3 R\. \*\*It", "Br_penetrated_2_3R", 1.0),
-        (_PW24, r"switch-on against 39, (\d+) beyond 5 R against 18", "events_beyond_5R_below", 1.0),
-        (_PW24, r"Br in 1-2 R ([\d.]+) against 0.140", "Br_penetrated_1_2R", 1.0),
-        ("chamber_peak_seed2024", r"packing \(seed 2024: q_c ([\d.]+) MPa, 151", "qc_steady_MPa", 1.0),
-        ("chamber_peak_seed2024", r"q_c 12.12 MPa, (\d+) events\) it keeps", "n_break_events", 1.0),
-        ("chamber_peak_seed2024", r"Br in 1-2 R 0.121 against ([\d.]+)\)", "Br_penetrated_1_2R", 1.0),
-        (_PW24, r"(\d+) at switch-on against 39", "events_switch_on", 1.0),
-        ("chamber_peak_seed2024", r"11 at switch-on against (\d+)", "events_switch_on", 1.0),
-        ("chamber_peak_seed2024", r"5 beyond 5 R against (\d+)", "events_beyond_5R_below", 1.0),
-        ("oedometer_peak_weibull", r"\(core void\s+ratio ([\d.]+) at 30 MPa against 0.52",
-         "e_core_at_30MPa", 1.0),
-        ("oedometer_printed", r"ratio 0.28 at 30 MPa against ([\d.]+), Br", "e_core_at_30MPa", 1.0),
-        ("oedometer_peak_weibull", r"against 0.52, Br ([\d.]+) against 0.10\)", "Br_at_30MPa", 1.0),
-        ("oedometer_printed", r"Br 0.51 against ([\d.]+)\), and its", "Br_at_30MPa", 1.0),
-    )
-]
+ENTRIES += _cr_rows((
+    (_PW24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.39", "qc_steady_MPa", 1.0),
+    (_PW24, r"ratio of ([\d.]+) to the unbreakable reference; 124", "ratio", 1.0),
+    (_PW24, r"reference; (\d+) break events: 11 at\s+switch-on, 16", "n_break_events", 1.0),
+    (_PW24, r"124 break events: (\d+) at\s+switch-on", "events_switch_on", 1.0),
+    (_PW24, r"switch-on, (\d+) at entry, and of the 97", "events_entry", 1.0),
+    (_PW24, r"of the (\d+) during penetration 69", "events_penetration", 1.0),
+    (_PW24, r"during penetration (\d+) in the zone\s+\(71", "events_in_zone", 1.0),
+    (_PW24, r"in the zone\s+\((\d+) %\), 5 beyond", "fraction_in_zone", 100.0),
+    (_PW24, r"\(71 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+    (_PW24, r"5 beyond 5 R below the tip, (\d+) farther than 3 R out", "events_elsewhere", 1.0),
+    (_PW24, r"Br is ([\d.]+) in 1-2 R and 0.068 in\s+2-3 R\. \*\*It", "Br_penetrated_1_2R", 1.0),
+    (_PW24, r"0.121 in 1-2 R and ([\d.]+) in\s+2-3 R\. \*\*It", "Br_penetrated_2_3R", 1.0),
+    (_PW24, r"switch-on against 39, (\d+) beyond 5 R against 18", "events_beyond_5R_below", 1.0),
+    (_PW24, r"Br in 1-2 R ([\d.]+) against 0.140", "Br_penetrated_1_2R", 1.0),
+    ("chamber_peak_seed2024", r"packing \(seed 2024: q_c ([\d.]+) MPa, 151", "qc_steady_MPa", 1.0),
+    ("chamber_peak_seed2024", r"q_c 12.12 MPa, (\d+) events\) it keeps", "n_break_events", 1.0),
+    ("chamber_peak_seed2024", r"Br in 1-2 R 0.121 against ([\d.]+)\)", "Br_penetrated_1_2R", 1.0),
+    (_PW24, r"(\d+) at switch-on against 39", "events_switch_on", 1.0),
+    ("chamber_peak_seed2024", r"11 at switch-on against (\d+)", "events_switch_on", 1.0),
+    ("chamber_peak_seed2024", r"5 beyond 5 R against (\d+)", "events_beyond_5R_below", 1.0),
+    ("oedometer_peak_weibull", r"\(core void\s+ratio ([\d.]+) at 30 MPa against 0.52",
+     "e_core_at_30MPa", 1.0),
+    ("oedometer_printed", r"ratio 0.28 at 30 MPa against ([\d.]+), Br", "e_core_at_30MPa", 1.0),
+    ("oedometer_peak_weibull", r"against 0.52, Br ([\d.]+) against 0.10\)", "Br_at_30MPa", 1.0),
+    ("oedometer_printed", r"Br 0.51 against ([\d.]+)\), and its", "Br_at_30MPa", 1.0),
+))
 
 
 def _weibull_shape(cov):
@@ -539,33 +536,30 @@ def _cr_pooled_fraction(*names):
                               / _cr_sum("events_penetration", *names)(d))
 
 
-ENTRIES += [
-    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
-    for piece, pattern, key, scale in (
-        (_PW25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.45", "qc_steady_MPa", 1.0),
-        (_PW25, r"a ratio of ([\d.]+) to the unbreakable reference; 119", "ratio", 1.0),
-        (_PW25, r"reference; (\d+)\s+break events: 11 at switch-on, 14", "n_break_events", 1.0),
-        (_PW25, r"119\s+break events: (\d+) at switch-on, 14", "events_switch_on", 1.0),
-        (_PW25, r"switch-on, (\d+) at entry, and of the 94", "events_entry", 1.0),
-        (_PW25, r"of the (\d+) during\s+penetration 61", "events_penetration", 1.0),
-        (_PW25, r"penetration (\d+) in the zone \(65", "events_in_zone", 1.0),
-        (_PW25, r"in the zone \((\d+) %\), 10 beyond", "fraction_in_zone", 100.0),
-        (_PW25, r"\(65 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
-        (_PW25, r"10 beyond 5 R below the tip, (\d+) farther", "events_elsewhere", 1.0),
-        (_PW25, r"Br is ([\d.]+)\s+in 1-2 R and 0.063", "Br_penetrated_1_2R", 1.0),
-        (_PW25, r"0.138\s+in 1-2 R and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
-        (_PW25, r"124 and (\d+) events, 11", "n_break_events", 1.0),
-        (_PW25, r"Br in 1-2 R 0.121 and\s+([\d.]+)\. On", "Br_penetrated_1_2R", 1.0),
-        (_PW24, r"missed on the second: (\d+) and 65 %", "fraction_in_zone", 100.0),
-        (_PW25, r"missed on the second: 71 and (\d+) %", "fraction_in_zone", 100.0),
-        ("chamber_peak_seed2025", r"\(11 and 11 against\s+39 and (\d+)\)", "events_switch_on", 1.0),
-        (_PW25, r"fewer beyond 5 R \(5 and (\d+) against", "events_beyond_5R_below", 1.0),
-        ("chamber_peak_seed2025", r"against 18 and (\d+)\), puts", "events_beyond_5R_below", 1.0),
-        ("chamber_peak_seed2024", r"\(71 against\s+(\d+) %, 65", "fraction_in_zone", 100.0),
-        (_PW25, r"55 %, (\d+) against 48 %\)", "fraction_in_zone", 100.0),
-        (_P25, r"65 against (\d+) %\), and costs", "fraction_in_zone", 100.0),
-    )
-]
+ENTRIES += _cr_rows((
+    (_PW25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.45", "qc_steady_MPa", 1.0),
+    (_PW25, r"a ratio of ([\d.]+) to the unbreakable reference; 119", "ratio", 1.0),
+    (_PW25, r"reference; (\d+)\s+break events: 11 at switch-on, 14", "n_break_events", 1.0),
+    (_PW25, r"119\s+break events: (\d+) at switch-on, 14", "events_switch_on", 1.0),
+    (_PW25, r"switch-on, (\d+) at entry, and of the 94", "events_entry", 1.0),
+    (_PW25, r"of the (\d+) during\s+penetration 61", "events_penetration", 1.0),
+    (_PW25, r"penetration (\d+) in the zone \(65", "events_in_zone", 1.0),
+    (_PW25, r"in the zone \((\d+) %\), 10 beyond", "fraction_in_zone", 100.0),
+    (_PW25, r"\(65 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+    (_PW25, r"10 beyond 5 R below the tip, (\d+) farther", "events_elsewhere", 1.0),
+    (_PW25, r"Br is ([\d.]+)\s+in 1-2 R and 0.063", "Br_penetrated_1_2R", 1.0),
+    (_PW25, r"0.138\s+in 1-2 R and ([\d.]+) in 2-3 R\. The two", "Br_penetrated_2_3R", 1.0),
+    (_PW25, r"124 and (\d+) events, 11", "n_break_events", 1.0),
+    (_PW25, r"Br in 1-2 R 0.121 and\s+([\d.]+)\. On", "Br_penetrated_1_2R", 1.0),
+    (_PW24, r"missed on the second: (\d+) and 65 %", "fraction_in_zone", 100.0),
+    (_PW25, r"missed on the second: 71 and (\d+) %", "fraction_in_zone", 100.0),
+    ("chamber_peak_seed2025", r"\(11 and 11 against\s+39 and (\d+)\)", "events_switch_on", 1.0),
+    (_PW25, r"fewer beyond 5 R \(5 and (\d+) against", "events_beyond_5R_below", 1.0),
+    ("chamber_peak_seed2025", r"against 18 and (\d+)\), puts", "events_beyond_5R_below", 1.0),
+    ("chamber_peak_seed2024", r"\(71 against\s+(\d+) %, 65", "fraction_in_zone", 100.0),
+    (_PW25, r"55 %, (\d+) against 48 %\)", "fraction_in_zone", 100.0),
+    (_P25, r"65 against (\d+) %\), and costs", "fraction_in_zone", 100.0),
+))
 ENTRIES += [
     N(_CR_DOC, r"On the seeds' mean q_c \(([\d.]+) MPa\) the ratio is", CR, _cr_mean_qc(*_PWS)),
     N(_CR_DOC, r"\(12.23 MPa\) the ratio is ([\d.]+), inside", CR, _cr_ratio_of_mean(*_PWS)),
@@ -582,36 +576,33 @@ ENTRIES += [
 # the printed reading with crushing on in the preparation (the study's eleventh
 # piece, and docs/cpt.md "Crushing during preparation"), against the printed reading
 _PC24 = "chamber_prep_crush_seed2024"
-ENTRIES += [
-    N(doc, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
-    for doc, piece, pattern, key, scale in (
-        (_CR_DOC, _PC24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.05", "qc_steady_MPa", 1.0),
-        (_CR_DOC, _PC24, r"ratio of ([\d.]+) to the unbreakable reference; 82", "ratio", 1.0),
-        (_CR_DOC, _PC24, r"reference; (\d+) break events: 22 during", "n_break_events", 1.0),
-        (_CR_DOC, _PC24, r"82 break events: (\d+) during the", "n_break_events_prep", 1.0),
-        (_CR_DOC, _PC24, r"none at switch-on, (\d+) at entry, and of the 53", "events_entry", 1.0),
-        (_CR_DOC, _PC24, r"and of the (\d+) during\s+penetration 23", "events_penetration", 1.0),
-        (_CR_DOC, _PC24, r"penetration (\d+) in the zone \(43 %\) and 9", "events_in_zone", 1.0),
-        (_CR_DOC, _PC24, r"23 in the zone \((\d+) %\) and 9 beyond", "fraction_in_zone", 100.0),
-        (_CR_DOC, _PC24, r"\(43 %\) and (\d+) beyond 5 R below the tip, none", "events_beyond_5R_below",
-         1.0),
-        (_CR_DOC, _PC24, r"Br is ([\d.]+) in 1-2 R and 0.033", "Br_penetrated_1_2R", 1.0),
-        (_CR_DOC, _PC24, r"0.038 in 1-2 R and ([\d.]+) in\s+2-3 R", "Br_penetrated_2_3R", 1.0),
-        (_CR_DOC, "chamber_printed_seed2024", r"\(q_c ([\d.]+)\s+MPa; 22 switch-on", "qc_steady_MPa",
-         1.0),
-        (_CR_DOC, "chamber_printed_seed2024", r"MPa; (\d+) switch-on events, 49", "events_switch_on",
-         1.0),
-        (_CR_DOC, "chamber_printed_seed2024", r"switch-on events, (\d+) during penetration, 21",
-         "events_penetration", 1.0),
-        (_CR_DOC, "chamber_printed_seed2024", r"during penetration, (\d+) of them in the zone",
-         "events_in_zone", 1.0),
-        (_CR_DOC, "chamber_printed_seed2024", r"of them in the zone,\s+(\d+) %\)",
-         "fraction_in_zone", 100.0),
-        (_CR_DOC, "chamber_printed_seed2024", r"reading's (\d+) breaks at switch-on become",
-         "events_switch_on", 1.0),
-        (_CR_DOC, _PC24, r"become (\d+) breaks during the preparation", "n_break_events_prep", 1.0),
-    )
-]
+ENTRIES += _cr_rows((
+    (_PC24, r"Steady q_c ([\d.]+) MPa, a\s+ratio of 1.05", "qc_steady_MPa", 1.0),
+    (_PC24, r"ratio of ([\d.]+) to the unbreakable reference; 82", "ratio", 1.0),
+    (_PC24, r"reference; (\d+) break events: 22 during", "n_break_events", 1.0),
+    (_PC24, r"82 break events: (\d+) during the", "n_break_events_prep", 1.0),
+    (_PC24, r"none at switch-on, (\d+) at entry, and of the 53", "events_entry", 1.0),
+    (_PC24, r"and of the (\d+) during\s+penetration 23", "events_penetration", 1.0),
+    (_PC24, r"penetration (\d+) in the zone \(43 %\) and 9", "events_in_zone", 1.0),
+    (_PC24, r"23 in the zone \((\d+) %\) and 9 beyond", "fraction_in_zone", 100.0),
+    (_PC24, r"\(43 %\) and (\d+) beyond 5 R below the tip, none", "events_beyond_5R_below",
+     1.0),
+    (_PC24, r"Br is ([\d.]+) in 1-2 R and 0.033", "Br_penetrated_1_2R", 1.0),
+    (_PC24, r"0.038 in 1-2 R and ([\d.]+) in\s+2-3 R", "Br_penetrated_2_3R", 1.0),
+    ("chamber_printed_seed2024", r"\(q_c ([\d.]+)\s+MPa; 22 switch-on", "qc_steady_MPa",
+     1.0),
+    ("chamber_printed_seed2024", r"MPa; (\d+) switch-on events, 49", "events_switch_on",
+     1.0),
+    ("chamber_printed_seed2024", r"switch-on events, (\d+) during penetration, 21",
+     "events_penetration", 1.0),
+    ("chamber_printed_seed2024", r"during penetration, (\d+) of them in the zone",
+     "events_in_zone", 1.0),
+    ("chamber_printed_seed2024", r"of them in the zone,\s+(\d+) %\)",
+     "fraction_in_zone", 100.0),
+    ("chamber_printed_seed2024", r"reading's (\d+) breaks at switch-on become",
+     "events_switch_on", 1.0),
+    (_PC24, r"become (\d+) breaks during the preparation", "n_break_events_prep", 1.0),
+))
 
 # the twelfth piece (prep_crush, seed 2025), its seeds against the printed
 # reading's, and docs/cpt.md's summary of both
@@ -638,32 +629,29 @@ def _cr_seed_spreads(d):
     return out
 
 
-ENTRIES += [
-    N(_CR_DOC, pattern, CR, _cr_ratio(piece) if key == "ratio" else _cr_piece(piece, key, scale))
-    for piece, pattern, key, scale in (
-        (_PC25, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.95", "qc_steady_MPa", 1.0),
-        (_PC25, r"a ratio of ([\d.]+) to the unbreakable reference; 69", "ratio", 1.0),
-        (_PC25, r"reference; (\d+) break\s+events: 23 during", "n_break_events", 1.0),
-        (_PC25, r"69 break\s+events: (\d+) during the preparation", "n_break_events_prep", 1.0),
-        (_PC25, r"none at switch-on, (\d+) at entry, and of\s+the 36", "events_entry", 1.0),
-        (_PC25, r"and of\s+the (\d+) during penetration 17", "events_penetration", 1.0),
-        (_PC25, r"during penetration (\d+) in the zone \(47 %\)", "events_in_zone", 1.0),
-        (_PC25, r"17 in the zone \((\d+) %\) and 5 beyond", "fraction_in_zone", 100.0),
-        (_PC25, r"\(47 %\) and (\d+) beyond 5 R below the\s+tip", "events_beyond_5R_below", 1.0),
-        (_PC25, r"Br is ([\d.]+) in 1-2 R\s+and 0.006", "Br_penetrated_1_2R", 1.0),
-        (_PC25, r"0.050 in 1-2 R\s+and ([\d.]+) in 2-3 R", "Br_penetrated_2_3R", 1.0),
-        (_R25, r"reading's (\d+) switch-on breaks on this seed", "events_switch_on", 1.0),
-        (_PC25, r"on this seed become (\d+) during the", "n_break_events_prep", 1.0),
-        (_PC25, r"penetration breaks (\d+) grains against the printed", "events_penetration", 1.0),
-        (_R25, r"grains against the printed\s+reading's (\d+), 17", "events_penetration", 1.0),
-        (_PC25, r"reading's 39, (\d+) of them in the zone against 18", "events_in_zone", 1.0),
-        (_R25, r"in the zone against (\d+) \(47 against", "events_in_zone", 1.0),
-        (_PC25, r"against 18 \((\d+) against 46 %\)", "fraction_in_zone", 100.0),
-        (_R25, r"\(47 against (\d+) %\)\. Its q_c", "fraction_in_zone", 100.0),
-        (_PC25, r"packing seed \(([\d.]+)\s+against 15.83 MPa\)", "qc_steady_MPa", 1.0),
-        (_R25, r"packing seed \(18.13\s+against ([\d.]+) MPa\)", "qc_steady_MPa", 1.0),
-    )
-]
+ENTRIES += _cr_rows((
+    (_PC25, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.95", "qc_steady_MPa", 1.0),
+    (_PC25, r"a ratio of ([\d.]+) to the unbreakable reference; 69", "ratio", 1.0),
+    (_PC25, r"reference; (\d+) break\s+events: 23 during", "n_break_events", 1.0),
+    (_PC25, r"69 break\s+events: (\d+) during the preparation", "n_break_events_prep", 1.0),
+    (_PC25, r"none at switch-on, (\d+) at entry, and of\s+the 36", "events_entry", 1.0),
+    (_PC25, r"and of\s+the (\d+) during penetration 17", "events_penetration", 1.0),
+    (_PC25, r"during penetration (\d+) in the zone \(47 %\)", "events_in_zone", 1.0),
+    (_PC25, r"17 in the zone \((\d+) %\) and 5 beyond", "fraction_in_zone", 100.0),
+    (_PC25, r"\(47 %\) and (\d+) beyond 5 R below the\s+tip", "events_beyond_5R_below", 1.0),
+    (_PC25, r"Br is ([\d.]+) in 1-2 R\s+and 0.006", "Br_penetrated_1_2R", 1.0),
+    (_PC25, r"0.050 in 1-2 R\s+and ([\d.]+) in 2-3 R", "Br_penetrated_2_3R", 1.0),
+    (_R25, r"reading's (\d+) switch-on breaks on this seed", "events_switch_on", 1.0),
+    (_PC25, r"on this seed become (\d+) during the", "n_break_events_prep", 1.0),
+    (_PC25, r"penetration breaks (\d+) grains against the printed", "events_penetration", 1.0),
+    (_R25, r"grains against the printed\s+reading's (\d+), 17", "events_penetration", 1.0),
+    (_PC25, r"reading's 39, (\d+) of them in the zone against 18", "events_in_zone", 1.0),
+    (_R25, r"in the zone against (\d+) \(47 against", "events_in_zone", 1.0),
+    (_PC25, r"against 18 \((\d+) against 46 %\)", "fraction_in_zone", 100.0),
+    (_R25, r"\(47 against (\d+) %\)\. Its q_c", "fraction_in_zone", 100.0),
+    (_PC25, r"packing seed \(([\d.]+)\s+against 15.83 MPa\)", "qc_steady_MPa", 1.0),
+    (_R25, r"packing seed \(18.13\s+against ([\d.]+) MPa\)", "qc_steady_MPa", 1.0),
+))
 ENTRIES += [
     N(_CR_DOC, r"Its q_c\s+is (\d+) % above the printed reading's", CR, _cr_rise(_PC25, _R25)),
     N(_CR_DOC, r"both differ by (\d+)-10 %", CR, lambda d: min(_cr_seed_spreads(d))),
@@ -677,7 +665,8 @@ ENTRIES += [
     N(_CR_DOC, r"\(17.31 against ([\d.]+) MPa, \d+ % apart\)", CR, _cr_mean_qc(*_PRINTEDS)),
     N(_CR_DOC, r"16.20 MPa, (\d+) % apart\)", CR,
       lambda d: 100.0 * (_cr_mean_qc(*_PREP_CRUSH)(d) / _cr_mean_qc(*_PRINTEDS)(d) - 1.0)),
-    N(_CR_DOC, r"% apart\) the ratio is ([\d.]+) against the printed", CR, _cr_ratio_of_mean(*_PREP_CRUSH)),
+    N(_CR_DOC, r"% apart\) the ratio is ([\d.]+) against the printed", CR,
+      _cr_ratio_of_mean(*_PREP_CRUSH)),
     N(_CR_DOC, r"ratio is 1.00 against the printed\s+reading's ([\d.]+), and", CR,
       _cr_ratio_of_mean(*_PRINTEDS)),
     N(_CR_DOC, r"and (\d+) % of the two seeds' 89 penetration", CR, _cr_pooled_fraction(*_PREP_CRUSH)),
