@@ -370,7 +370,7 @@ ENTRIES += _cr_rows((
     (_W24, r"the zone \((\d+) %\), none beyond 5 R", "fraction_in_zone", 100.0),
     (_W24, r"layers Br is ([\d.]+) in 1-2 R and 0.014", "Br_penetrated_1_2R", 1.0),
     (_W24, r"0.037 in 1-2 R and ([\d.]+) in 2-3 R\. The", "Br_penetrated_2_3R", 1.0),
-    (_W24, r"`weibull` 38 events and a ratio of ([\d.]+),", "ratio", 1.0),
+    (_W24, r"`weibull` (\d+) and 46 events and a ratio", "n_break_events", 1.0),
     (_T24, r"Steady\s+q_c ([\d.]+) MPa, a ratio of 0.99", "qc_steady_MPa", 1.0),
     (_T24, r"a ratio of ([\d.]+) to the unbreakable reference: this run", "ratio", 1.0),
     (_T24, r"\*\*Not one grain broke\*\*: (\d+) events", "n_break_events", 1.0),
@@ -691,6 +691,49 @@ ENTRIES += [
         (r"in the zone against (\d+) and 46 %", _cr_printed("fraction_in_zone", 100.0)),
         (r"in the zone against 43 and (\d+) %", _cr_piece(_R25, "fraction_in_zone", 100.0)),
     )
+]
+
+# the Weibull law's second seed (the study's thirteenth piece) and its two seeds
+_W25 = "chamber_weibull_seed2025"
+_WEIBULLS = (_W24, _W25)
+ENTRIES += _cr_rows((
+    (_W25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.03", "qc_steady_MPa", 1.0),
+    (_W25, r"a ratio of ([\d.]+) to the unbreakable\s+reference; 46", "ratio", 1.0),
+    (_W25, r"reference; (\d+) break events: 1 at switch-on", "n_break_events", 1.0),
+    (_W25, r"46 break events: (\d+) at switch-on, 8", "events_switch_on", 1.0),
+    (_W25, r"1 at switch-on, (\d+) at entry, and of the 37", "events_entry", 1.0),
+    (_W25, r"and of the (\d+)\s+during penetration 26", "events_penetration", 1.0),
+    (_W25, r"during penetration (\d+) in the zone \(70 %\), 2", "events_in_zone", 1.0),
+    (_W25, r"26 in the zone \((\d+) %\), 2 beyond", "fraction_in_zone", 100.0),
+    (_W25, r"\(70 %\), (\d+) beyond 5 R below the tip and", "events_beyond_5R_below", 1.0),
+    (_W25, r"beyond 5 R below the tip and\s+(\d+) along the shaft again", "events_along_shaft",
+     1.0),
+    (_W25, r"Br is ([\d.]+) in\s+1-2 R and 0.043", "Br_penetrated_1_2R", 1.0),
+    (_W25, r"0.048 in\s+1-2 R and ([\d.]+) in 2-3 R", "Br_penetrated_2_3R", 1.0),
+    (_R25, r"\(seed 2025: (\d+) events, 22 at switch-on, 9 beyond", "n_break_events", 1.0),
+    (_R25, r"74 events, (\d+) at switch-on, 9 beyond 5 R, 46", "events_switch_on", 1.0),
+    (_R25, r"22 at switch-on, (\d+) beyond 5 R, 46 % in the zone\)", "events_beyond_5R_below", 1.0),
+    (_R25, r"9 beyond 5 R, (\d+) % in the zone\) the", "fraction_in_zone", 100.0),
+    (_W25, r"from the cone \((\d+) at switch-on,", "events_switch_on", 1.0),
+    (_W25, r"\(1 at switch-on,\s+(\d+) beyond 5 R\) and keeps", "events_beyond_5R_below", 1.0),
+    (_W25, r"`weibull` 38 and (\d+) events and a ratio", "n_break_events", 1.0),
+))
+ENTRIES += [
+    N(_CR_DOC, r"Over both seeds (\d+) % of its 66 penetration", CR, _cr_pooled_fraction(*_WEIBULLS)),
+    N(_CR_DOC, r"% of its (\d+) penetration breaks lie in the zone", CR,
+      _cr_sum("events_penetration", *_WEIBULLS)),
+] + [
+    # "on each seed": the one quote must hold for both
+    N(_CR_DOC, r"and (\d+) grain breaks along the shaft on each seed", CR,
+      _cr_piece(n, "events_along_shaft")) for n in _WEIBULLS
+] + [
+    N(_CR_DOC, r"q_c\s+is (\d+) % above the printed reading's on this packing", CR,
+      _cr_rise(_W25, _R25)),
+    N(_CR_DOC, r"on the seeds'\s+mean \(([\d.]+) MPa\) the ratio is 1.06", CR, _cr_mean_qc(*_WEIBULLS)),
+    N(_CR_DOC, r"\(16.39 MPa\) the ratio is ([\d.]+), the printed", CR, _cr_ratio_of_mean(*_WEIBULLS)),
+    N(_CR_DOC, r"the ratio is 1.06, the printed reading's ([\d.]+)\.", CR,
+      _cr_ratio_of_mean(*_PRINTEDS)),
+    N(_CR_DOC, r"a ratio of ([\d.]+) on its seeds' mean,\s+`truncated", CR, _cr_ratio_of_mean(*_WEIBULLS)),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
