@@ -652,6 +652,14 @@ ENTRIES += _cr_rows((
     (_PC25, r"packing seed \(([\d.]+)\s+against 15.83 MPa\)", "qc_steady_MPa", 1.0),
     (_R25, r"packing seed \(18.13\s+against ([\d.]+) MPa\)", "qc_steady_MPa", 1.0),
 ))
+@functools.lru_cache(maxsize=None)
+def _reference_ratio_sd():
+    """The relative sd of the unbreakable/crushable q_c ratio over the four
+    reference runs (the error-vs-runtime table): the scatter of two runs' ratio."""
+    path = Path(__file__).resolve().parents[2] / EVR_TABLE
+    return _pooled_ratio(json.loads(path.read_text()))[1]
+
+
 ENTRIES += [
     N(_CR_DOC, r"Its q_c\s+is (\d+) % above the printed reading's", CR, _cr_rise(_PC25, _R25)),
     N(_CR_DOC, r"both differ by (\d+)-10 %", CR, lambda d: min(_cr_seed_spreads(d))),
@@ -659,8 +667,7 @@ ENTRIES += [
     N(_CR_DOC, r"\(the first differs by ([\d.]+) %\)", CR,
       lambda d: abs(_cr_rise(_PC24, "chamber_printed_seed2024")(d))),
     N(_CR_DOC, r"this difference is about ([\d.]+) times that scatter", CR,
-      lambda d: _cr_rise(_PC25, _R25)(d) / (100.0 * _pooled_ratio(json.loads(
-          (Path(__file__).resolve().parents[2] / EVR_TABLE).read_text()))[1])),
+      lambda d: _cr_rise(_PC25, _R25)(d) / (100.0 * _reference_ratio_sd())),
     N(_CR_DOC, r"On the seeds' means\s+\(([\d.]+) against 16.20 MPa", CR, _cr_mean_qc(*_PREP_CRUSH)),
     N(_CR_DOC, r"\(17.31 against ([\d.]+) MPa, \d+ % apart\)", CR, _cr_mean_qc(*_PRINTEDS)),
     N(_CR_DOC, r"16.20 MPa, (\d+) % apart\)", CR,
