@@ -377,7 +377,6 @@ ENTRIES += _cr_rows((
     (_T24, r"Br over the\s+penetrated layers is ([\d.]+) in 1-2 R and 0.0029",
      "Br_penetrated_1_2R", 1.0),
     (_T24, r"0.0077 in 1-2 R and ([\d.]+) in 2-3 R, because", "Br_penetrated_2_3R", 1.0),
-    (_T24, r"`truncated_0.5` no break\s+and ([\d.]+)\.", "ratio", 1.0),
     (_R25, r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.09 to the unbreakable reference; 74",
      "qc_steady_MPa", 1.0),
     (_R25, r"MPa, a ratio of ([\d.]+) to the unbreakable reference; 74", "ratio", 1.0),
@@ -704,7 +703,8 @@ ENTRIES += [
 _W25 = "chamber_weibull_seed2025"
 _WEIBULLS = (_W24, _W25)
 ENTRIES += _cr_rows((
-    (_W25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.03", "qc_steady_MPa", 1.0),
+    (_W25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.03 to the unbreakable\s+reference; 46", "qc_steady_MPa",
+     1.0),
     (_W25, r"a ratio of ([\d.]+) to the unbreakable\s+reference; 46", "ratio", 1.0),
     (_W25, r"reference; (\d+) break events: 1 at switch-on", "n_break_events", 1.0),
     (_W25, r"46 break events: (\d+) at switch-on, 8", "events_switch_on", 1.0),
@@ -741,6 +741,41 @@ ENTRIES += [
     N(_CR_DOC, r"the ratio is 1.06, the printed reading's ([\d.]+)\.", CR,
       _cr_ratio_of_mean(*_PRINTEDS)),
     N(_CR_DOC, r"a ratio of ([\d.]+) on its seeds' mean,\s+`truncated", CR, _cr_ratio_of_mean(*_WEIBULLS)),
+]
+
+# the bounded tail's second seed (the study's fourteenth piece): no break on
+# either seed, so its two runs are unbreakable runs on the printed packings
+_T25 = "chamber_truncated_0.5_seed2025"
+_TRUNCATEDS = (_T24, _T25)
+ENTRIES += _cr_rows((
+    (_T25, r"either\*\*: (\d+) events\. Steady", "n_break_events", 1.0),
+    (_T25, r"Steady q_c\s+([\d.]+) MPa, a ratio of 1.03 to the unbreakable reference; Br", "qc_steady_MPa",
+     1.0),
+    (_T25, r"a ratio of ([\d.]+) to the unbreakable reference; Br over", "ratio", 1.0),
+    (_T25, r"penetrated layers is ([\d.]+) in 1-2 R and 0.0004", "Br_penetrated_1_2R", 1.0),
+    (_T25, r"0.0091 in 1-2 R and ([\d.]+) in 2-3 R, the floor", "Br_penetrated_2_3R", 1.0),
+    (_T25, r"\(15.83 against ([\d.]+) MPa\), 5.7", "qc_steady_MPa", 1.0),
+    (_R25, r"\(([\d.]+) against 16.83 MPa\)", "qc_steady_MPa", 1.0),
+))
+ENTRIES += [
+    N(_CR_DOC, r"The two seeds' q_c differ\s+by (\d+) %; on their mean", CR,
+      lambda d: abs(_cr_rise(_T24, _T25)(d))),
+    N(_CR_DOC, r"on their mean \(([\d.]+) MPa\) the ratio is 1.01", CR, _cr_mean_qc(*_TRUNCATEDS)),
+    N(_CR_DOC, r"\(17.18 MPa\) the ratio is ([\d.]+)\. Both", CR, _cr_ratio_of_mean(*_TRUNCATEDS)),
+    N(_CR_DOC, r"of q_c on seed 2024 and ([\d.]+) % on seed 2025", CR, _cr_drop((_R25,), (_T25,))),
+    N(_CR_DOC, r"cost its packing ([\d.]+) % of q_c on seed 2024", CR,
+      _cr_drop(_PRINTEDS[:1], (_T24,))),
+    N(_CR_DOC, r"MPa\), ([\d.]+) % on the mean\.", CR, _cr_drop(_PRINTEDS, _TRUNCATEDS)),
+    N(_CR_DOC, r"reference chamber's ratio of ([\d.]+) says", EVR_TABLE, lambda d: _pooled_ratio(d)[0]),
+    N(_CR_DOC, r"\(crushable ([\d.]+) % below\s+unbreakable\)", EVR_TABLE,
+      lambda d: 100.0 * (1.0 - 1.0 / _pooled_ratio(d)[0])),
+    N(_CR_DOC, r"the printed reading's Br in 1-2 R \(([\d.]+) on the mean\)", CR,
+      _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
+    N(_CR_DOC, r"on the mean\) stands ([\d.]+)\s+times above the floor", CR,
+      lambda d: _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)(d) / _cr_mean("Br_penetrated_1_2R", *_TRUNCATEDS)(d)),
+    N(_CR_DOC, r"the floor's mean \(([\d.]+)\)", CR, _cr_mean("Br_penetrated_1_2R", *_TRUNCATEDS)),
+    N(_CR_DOC, r"`truncated_0.5` no break on\s+either seed and ([\d.]+) on its seeds' mean", CR,
+      _cr_ratio_of_mean(*_TRUNCATEDS)),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
