@@ -385,7 +385,7 @@ ENTRIES += _cr_rows((
     (_R25, r"switch-on, (\d+) at entry, and of the 39", "events_entry", 1.0),
     (_R25, r"of the (\d+) during penetration 18 in the zone\s+\(46", "events_penetration", 1.0),
     (_R25, r"during penetration (\d+) in the zone\s+\(46", "events_in_zone", 1.0),
-    (_R25, r"in the zone\s+\((\d+) %\), 9 beyond", "fraction_in_zone", 100.0),
+    (_R25, r"in the zone\s+\((\d+) %\), 9 beyond 5 R below the tip, 12", "fraction_in_zone", 100.0),
     (_R25, r"\(46 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
     (_R25, r"\(46 %\), 9 beyond 5 R below the tip, (\d+) farther than 3 R out",
      "events_elsewhere", 1.0),
@@ -766,7 +766,7 @@ ENTRIES += [
     N(_CR_DOC, r"cost its packing ([\d.]+) % of q_c on seed 2024", CR,
       _cr_drop(_PRINTEDS[:1], (_T24,))),
     N(_CR_DOC, r"MPa\), ([\d.]+) % on the mean\.", CR, _cr_drop(_PRINTEDS, _TRUNCATEDS)),
-    N(_CR_DOC, r"reference chamber's ratio of ([\d.]+) says", EVR_TABLE, lambda d: _pooled_ratio(d)[0]),
+    N(_CR_DOC, r"reference chamber's ratio of ([\d.]+) again", EVR_TABLE, lambda d: _pooled_ratio(d)[0]),
     N(_CR_DOC, r"\(crushable ([\d.]+) % below\s+unbreakable\)", EVR_TABLE,
       lambda d: 100.0 * (1.0 - 1.0 / _pooled_ratio(d)[0])),
     N(_CR_DOC, r"the printed reading's Br in 1-2 R \(([\d.]+) on the mean\)", CR,
@@ -776,6 +776,82 @@ ENTRIES += [
     N(_CR_DOC, r"the floor's mean \(([\d.]+)\)", CR, _cr_mean("Br_penetrated_1_2R", *_TRUNCATEDS)),
     N(_CR_DOC, r"`truncated_0.5` no break on\s+either seed and ([\d.]+) on its seeds' mean", CR,
       _cr_ratio_of_mean(*_TRUNCATEDS)),
+]
+
+@functools.lru_cache(maxsize=None)
+def _single_run_qc_sd():
+    """The relative sd of one crushable run's q_c over the four reference runs."""
+    path = Path(__file__).resolve().parents[2] / EVR_TABLE
+    return json.loads(path.read_text())["chamber_spread"]["models"]["crushable_ne34"]["rel_std"][
+        "qc_steady_MPa"]
+
+
+ENTRIES += [
+    N(_CR_DOC, r"scattering by ([\d.]+) % \(sd\) the mean", CR, lambda d: 100.0 * _single_run_qc_sd()),
+    N(_CR_DOC, r"carries an sd of ([\d.]+) % too", CR, lambda d: 100.0 * _single_run_qc_sd()),
+    N(_CR_DOC, r"so 5.7 % stands ([\d.]+) sd from\s+zero", CR,
+      lambda d: _cr_drop(_PRINTEDS, _TRUNCATEDS)(d) / (100.0 * _single_run_qc_sd())),
+    N(_CR_DOC, r"so ([\d.]+) % stands 1.6 sd", CR, _cr_drop(_PRINTEDS, _TRUNCATEDS)),
+]
+
+# the total force at the Coulomb limit, seed 2024 (the fifteenth piece), and
+# where its breaks lie against the printed reading's on the same packing
+_S24 = "chamber_sliding_seed2024"
+BREAKS = "bench/criterion_readings/break_events.json"
+
+
+def _cr_same_place(name, other, tol):
+    """How many break events of piece `name` lie within `tol` R, in radius
+    and in depth below the surface, of a break event of piece `other`."""
+    def at(d, n):
+        e = d[n]
+        return np.c_[e["r_over_R"], np.subtract(e["h_over_R"], e["tip_depth_over_R"])]
+
+    def count(d):
+        a, b = at(d, name), at(d, other)
+        dist = np.sqrt(((a[:, None, :] - b[None, :, :]) ** 2).sum(-1)).min(axis=1)
+        return int((dist < tol).sum())
+    return count
+
+
+ENTRIES += _cr_rows((
+    (_S24, r"Steady q_c ([\d.]+) MPa, a ratio of 1.12 to the\s+unbreakable reference; 79",
+     "qc_steady_MPa", 1.0),
+    (_S24, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 79", "ratio", 1.0),
+    (_S24, r"reference; (\d+) break events: 22 at switch-on, 8 at entry", "n_break_events", 1.0),
+    (_S24, r"79 break events: (\d+) at switch-on, 8 at entry", "events_switch_on", 1.0),
+    (_S24, r"22 at switch-on, (\d+) at entry, and\s+of the 49", "events_entry", 1.0),
+    (_S24, r"8 at entry, and\s+of the (\d+) during penetration 22", "events_penetration", 1.0),
+    (_S24, r"during penetration (\d+) in the zone \(45 %\)", "events_in_zone", 1.0),
+    (_S24, r"22 in the zone \((\d+) %\), 9 beyond", "fraction_in_zone", 100.0),
+    (_S24, r"\(45 %\), (\d+) beyond 5 R below the\s+tip and 18", "events_beyond_5R_below", 1.0),
+    (_S24, r"tip and (\d+) farther than 3 R out, none along", "events_elsewhere", 1.0),
+    (_S24, r"Br is ([\d.]+) in 1-2 R and 0.041", "Br_penetrated_1_2R", 1.0),
+    (_S24, r"0.025 in 1-2 R and ([\d.]+) in 2-3 R", "Br_penetrated_2_3R", 1.0),
+    ("chamber_printed_seed2024", r"same packing \((\d+)\s+events: 22 at switch-on, 21 of 49",
+     "n_break_events", 1.0),
+    ("chamber_printed_seed2024", r"80\s+events: (\d+) at switch-on, 21 of 49", "events_switch_on", 1.0),
+    ("chamber_printed_seed2024", r"22 at switch-on, (\d+) of 49 penetration", "events_in_zone", 1.0),
+    ("chamber_printed_seed2024", r"21 of (\d+) penetration breaks in the zone\)",
+     "events_penetration", 1.0),
+    (_W24, r"on this packing, 0\s+of (\d+)\.", "n_break_events", 1.0),
+))
+ENTRIES += [
+    N(_CR_DOC, r"own grains \((\d+) events against 80", CR, _cr_piece(_S24, "n_break_events")),
+    N(_CR_DOC, r"own grains \(79 events against (\d+) on the first", CR, _cr_printed("n_break_events")),
+    N(_CR_DOC, r"on the first seed\) and ([\d.]+)\. So no", CR, _cr_ratio(_S24)),
+    N(_CR_DOC, r"\), (\d+) of\s+its 79 events lie within 0.05 R", BREAKS,
+      _cr_same_place(_S24, "chamber_printed_seed2024", 0.05)),
+    N(_CR_DOC, r"\((\d+) within 0.01 R\)", BREAKS, _cr_same_place(_S24, "chamber_printed_seed2024", 0.01)),
+    N(_CR_DOC, r"other packing puts (\d+) of its 74\s+there", BREAKS,
+      _cr_same_place(_R25, "chamber_printed_seed2024", 0.05)),
+    N(_CR_DOC, r"puts 1 of its (\d+)\s+there", CR, _cr_piece(_R25, "n_break_events")),
+    N(_CR_DOC, r"on this packing, (\d+)\s+of 38\.", BREAKS,
+      _cr_same_place(_W24, "chamber_printed_seed2024", 0.05)),
+    N(_CR_DOC, r"Its q_c is ([\d.]+) % below the printed reading's although", CR,
+      lambda d: -_cr_rise(_S24, "chamber_printed_seed2024")(d)),
+    N(_CR_DOC, r"break the same grains differ by ([\d.]+) % \(the fifteenth", CR,
+      lambda d: -_cr_rise(_S24, "chamber_printed_seed2024")(d)),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
