@@ -651,12 +651,23 @@ ENTRIES += _cr_rows((
     (_PC25, r"packing seed \(([\d.]+)\s+against 15.83 MPa\)", "qc_steady_MPa", 1.0),
     (_R25, r"packing seed \(18.13\s+against ([\d.]+) MPa\)", "qc_steady_MPa", 1.0),
 ))
+
+
 @functools.lru_cache(maxsize=None)
+def _evr_table():
+    """The error-vs-runtime study's table (the reference chamber's noise)."""
+    return json.loads((Path(__file__).resolve().parents[2] / EVR_TABLE).read_text())
+
+
 def _reference_ratio_sd():
     """The relative sd of the unbreakable/crushable q_c ratio over the four
     reference runs (the error-vs-runtime table): the scatter of two runs' ratio."""
-    path = Path(__file__).resolve().parents[2] / EVR_TABLE
-    return _pooled_ratio(json.loads(path.read_text()))[1]
+    return _pooled_ratio(_evr_table())[1]
+
+
+def _single_run_qc_sd():
+    """The relative sd of one crushable run's q_c over the same four runs."""
+    return _evr_table()["chamber_spread"]["models"]["crushable_ne34"]["rel_std"]["qc_steady_MPa"]
 
 
 ENTRIES += [
@@ -772,21 +783,11 @@ ENTRIES += [
     N(_CR_DOC, r"the printed reading's Br in 1-2 R \(([\d.]+) on the mean\)", CR,
       _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
     N(_CR_DOC, r"on the mean\) stands ([\d.]+)\s+times above the floor", CR,
-      lambda d: _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)(d) / _cr_mean("Br_penetrated_1_2R", *_TRUNCATEDS)(d)),
+      lambda d: (_cr_mean("Br_penetrated_1_2R", *_PRINTEDS)(d)
+                 / _cr_mean("Br_penetrated_1_2R", *_TRUNCATEDS)(d))),
     N(_CR_DOC, r"the floor's mean \(([\d.]+)\)", CR, _cr_mean("Br_penetrated_1_2R", *_TRUNCATEDS)),
     N(_CR_DOC, r"`truncated_0.5` no break on\s+either seed and ([\d.]+) on its seeds' mean", CR,
       _cr_ratio_of_mean(*_TRUNCATEDS)),
-]
-
-@functools.lru_cache(maxsize=None)
-def _single_run_qc_sd():
-    """The relative sd of one crushable run's q_c over the four reference runs."""
-    path = Path(__file__).resolve().parents[2] / EVR_TABLE
-    return json.loads(path.read_text())["chamber_spread"]["models"]["crushable_ne34"]["rel_std"][
-        "qc_steady_MPa"]
-
-
-ENTRIES += [
     N(_CR_DOC, r"scattering by ([\d.]+) % \(sd\) the mean", CR, lambda d: 100.0 * _single_run_qc_sd()),
     N(_CR_DOC, r"carries an sd of ([\d.]+) % too", CR, lambda d: 100.0 * _single_run_qc_sd()),
     N(_CR_DOC, r"so 5.7 % stands ([\d.]+) sd from\s+zero", CR,
