@@ -342,8 +342,9 @@ ENTRIES += [
 _P25 = "chamber_peak_seed2025"
 _W24 = "chamber_weibull_seed2024"
 _T24 = "chamber_truncated_0.5_seed2024"
+_R24 = "chamber_printed_seed2024"
 _R25 = "chamber_printed_seed2025"
-_PRINTEDS = ("chamber_printed_seed2024", _R25)
+_PRINTEDS = (_R24, _R25)
 _B25 = "chamber_peak_truncated_0.5_seed2025"
 _BOUNDED = ("chamber_peak_truncated_0.5_seed2024", _B25)
 _PEAKS = ("chamber_peak_seed2024", _P25)
@@ -831,27 +832,27 @@ ENTRIES += _cr_rows((
      "events_elsewhere", 1.0),
     (_S24, r"Br is ([\d.]+) in 1-2 R and 0.041", "Br_penetrated_1_2R", 1.0),
     (_S24, r"0.025 in 1-2 R and ([\d.]+) in 2-3 R", "Br_penetrated_2_3R", 1.0),
-    ("chamber_printed_seed2024", r"same packing \((\d+)\s+events: 22 at switch-on, 21 of 49",
+    (_R24, r"same packing \((\d+)\s+events: 22 at switch-on, 21 of 49",
      "n_break_events", 1.0),
-    ("chamber_printed_seed2024", r"80\s+events: (\d+) at switch-on, 21 of 49", "events_switch_on", 1.0),
-    ("chamber_printed_seed2024", r"22 at switch-on, (\d+) of 49 penetration", "events_in_zone", 1.0),
-    ("chamber_printed_seed2024", r"21 of (\d+) penetration breaks in the zone\)",
+    (_R24, r"80\s+events: (\d+) at switch-on, 21 of 49", "events_switch_on", 1.0),
+    (_R24, r"22 at switch-on, (\d+) of 49 penetration", "events_in_zone", 1.0),
+    (_R24, r"21 of (\d+) penetration breaks in the zone\)",
      "events_penetration", 1.0),
     (_W24, r"on this packing, 0\s+of (\d+)\.", "n_break_events", 1.0),
 ))
 ENTRIES += [
     N(_CR_DOC, r"\), (\d+) of\s+its 79 events lie within 0.05 R", BREAKS,
-      _cr_same_place(_S24, "chamber_printed_seed2024", 0.05)),
-    N(_CR_DOC, r"\((\d+) within 0.01 R\)", BREAKS, _cr_same_place(_S24, "chamber_printed_seed2024", 0.01)),
+      _cr_same_place(_S24, _R24, 0.05)),
+    N(_CR_DOC, r"\((\d+) within 0.01 R\)", BREAKS, _cr_same_place(_S24, _R24, 0.01)),
     N(_CR_DOC, r"other packing puts (\d+) of its 74\s+there", BREAKS,
-      _cr_same_place(_R25, "chamber_printed_seed2024", 0.05)),
+      _cr_same_place(_R25, _R24, 0.05)),
     N(_CR_DOC, r"puts 1 of its (\d+)\s+there", CR, _cr_piece(_R25, "n_break_events")),
     N(_CR_DOC, r"on this packing, (\d+)\s+of 38\.", BREAKS,
-      _cr_same_place(_W24, "chamber_printed_seed2024", 0.05)),
+      _cr_same_place(_W24, _R24, 0.05)),
     N(_CR_DOC, r"Its q_c is ([\d.]+) % below the printed reading's although", CR,
-      lambda d: -_cr_rise(_S24, "chamber_printed_seed2024")(d)),
+      _cr_drop((_S24,), (_R24,))),
     N(_CR_DOC, r"break the same grains differ by ([\d.]+) % \(the fifteenth", CR,
-      lambda d: -_cr_rise(_S24, "chamber_printed_seed2024")(d)),
+      _cr_drop((_S24,), (_R24,))),
 ]
 
 # the total force's second seed (the sixteenth piece) and its two seeds
@@ -883,11 +884,11 @@ ENTRIES += [
     N(_CR_DOC, r"of a printed event \((\d+) within 0.01 R\), against", BREAKS,
       _cr_same_place(_S25, _R25, 0.01)),
     N(_CR_DOC, r"against (\d+) for the other packing's printed events", BREAKS,
-      _cr_same_place(_S25, "chamber_printed_seed2024", 0.05)),
+      _cr_same_place(_S25, _R24, 0.05)),
     N(_CR_DOC, r"and (\d+) of the Weibull law's 46", BREAKS, _cr_same_place(_W25, _R25, 0.05)),
     N(_CR_DOC, r"Here its q_c is ([\d.]+) % above the printed", CR, _cr_rise(_S25, _R25)),
     N(_CR_DOC, r"on the first seed ([\d.]+) % below: two", CR,
-      lambda d: -_cr_rise(_S24, "chamber_printed_seed2024")(d)),
+      _cr_drop((_S24,), (_R24,))),
     N(_CR_DOC, r"scatter by about the ([\d.]+) % that one run's", CR,
       lambda d: 100.0 * math.sqrt(2.0) * _single_run_qc_sd()),
     N(_CR_DOC, r"that one run's ([\d.]+) % gives the difference", CR, lambda d: 100.0 * _single_run_qc_sd()),
@@ -921,7 +922,7 @@ _GM_ROWS = {
                                   _cr_piece(_P25, "qc_steady_MPa"),
                                   _cr_piece("chamber_peak_weibull_seed2024", "qc_steady_MPa"),
                                   _cr_piece("chamber_peak_weibull_seed2025", "qc_steady_MPa")],
-    "chamber: unbreakable / crushable q_c": [_cr_ratio("chamber_printed_seed2024"), _cr_ratio(_R25),
+    "chamber: unbreakable / crushable q_c": [_cr_ratio(_R24), _cr_ratio(_R25),
                                              _cr_ratio_of_mean(*_PRINTEDS),
                                              _cr_ratio("chamber_peak_seed2024"), _cr_ratio(_P25),
                                              _cr_ratio_of_mean(*_PEAKS),
@@ -1023,7 +1024,7 @@ ENTRIES += [
 
 # the printed reading's ratio as the README and model.md quote it ("about N % more")
 ENTRIES += [
-    N(doc, pattern, CR, lambda d: 100.0 * (_cr_ratio("chamber_printed_seed2024")(d) - 1.0))
+    N(doc, pattern, CR, lambda d: 100.0 * (_cr_ratio(_R24)(d) - 1.0))
     for doc, pattern in (("README.md", r"resists only about (\d+) % more than crushable"),
                          ("docs/model.md", r"resists only\s+about (\d+) % more than crushable"))
 ]
