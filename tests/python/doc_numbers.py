@@ -905,6 +905,39 @@ ENTRIES += [
     N(_CR_DOC, r"and 74\) and ([\d.]+) on its seeds' mean", CR, _cr_ratio_of_mean(*_SLIDINGS)),
 ]
 
+# the size term without N (the bracket; the seventeenth piece)
+_N24 = "chamber_no_N_seed2024"
+_PK24 = "chamber_peak_seed2024"
+ENTRIES += _cr_rows((
+    (_N24, r"Steady q_c ([\d.]+) MPa, a ratio of 6.92", "qc_steady_MPa", 1.0),
+    (_N24, r"a ratio of ([\d.]+) to the unbreakable reference; 391", "ratio", 1.0),
+    (_N24, r"reference; (\d+) break events: 125 at switch-on", "n_break_events", 1.0),
+    (_N24, r"391 break events: (\d+) at switch-on", "events_switch_on", 1.0),
+    (_N24, r"125 at switch-on, (\d+) at entry", "events_entry", 1.0),
+    (_N24, r"of the (\d+) during penetration 144", "events_penetration", 1.0),
+    (_N24, r"during penetration (\d+) in the zone \(63", "events_in_zone", 1.0),
+    (_N24, r"144 in the zone \((\d+) %\)", "fraction_in_zone", 100.0),
+    (_N24, r"\(63 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+    (_N24, r"beyond 5 R below the tip and (\d+) along the shaft; over", "events_along_shaft", 1.0),
+    (_N24, r"Br is ([\d.]+) in 1-2 R and 0.15 in 2-3 R", "Br_penetrated_1_2R", 1.0),
+    (_N24, r"0.35 in 1-2 R and ([\d.]+) in 2-3 R\. It", "Br_penetrated_2_3R", 1.0),
+    (_N24, r"\(Br ([\d.]+) in 1-2 R, 10 times", "Br_penetrated_1_2R", 1.0),
+    (_N24, r"(\d+) grains break at the step crushing switches on", "events_switch_on", 1.0),
+    (_N24, r"on this packing\), (\d+) along the shaft, and the zone", "events_along_shaft", 1.0),
+    (_N24, r"the zone takes (\d+) % of the penetration breaks, short", "fraction_in_zone", 100.0),
+    (_PK24, r"near the peak reading's ([\d.]+) on this packing", "ratio", 1.0),
+    (_R24, r"10 times the printed reading's ([\d.]+) on this packing", "Br_penetrated_1_2R", 1.0),
+    (_R24, r"switches on \(the printed reading (\d+), the peak", "events_switch_on", 1.0),
+    (_PK24, r"the peak reading (\d+) on this packing\), 2 along", "events_switch_on", 1.0),
+))
+ENTRIES += [
+    N(_CR_DOC, r"between the printed reading's ([\d.]+) \(seeds' mean\)", CR, _cr_ratio_of_mean(*_PRINTEDS)),
+    N(_CR_DOC, r"0.35 in 1-2 R, (\d+) times the printed", CR,
+      lambda d: _cr_piece(_N24, "Br_penetrated_1_2R")(d) / _cr_printed("Br_penetrated_1_2R")(d)),
+    N(_CR_DOC, r"while q_c falls to (\d+) % of the unbreakable", CR,
+      lambda d: 100.0 * _cr_piece(_N24, "qc_steady_MPa")(d) / _cr_unbreakable_qc()),
+]
+
 # docs/grain_models.md: its table, printed against peak, from the study's records
 _GM_DOC = "docs/grain_models.md"
 
