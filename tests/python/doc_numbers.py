@@ -674,8 +674,8 @@ def _single_run_qc_sd():
 
 ENTRIES += [
     N(_CR_DOC, r"Its q_c\s+is (\d+) % above the printed reading's", CR, _cr_rise(_PC25, _R25)),
-    N(_CR_DOC, r"both differ by (\d+)-10 %", CR, lambda d: min(_cr_seed_spreads(d))),
-    N(_CR_DOC, r"both differ by 3-(\d+) %", CR, lambda d: max(_cr_seed_spreads(d))),
+    N(_CR_DOC, r"both differ by ([\d.]+)-10 %", CR, lambda d: min(_cr_seed_spreads(d))),
+    N(_CR_DOC, r"both differ by 0.5-(\d+) %", CR, lambda d: max(_cr_seed_spreads(d))),
     N(_CR_DOC, r"\(the first differs by ([\d.]+) %\)", CR,
       lambda d: abs(_cr_rise(_PC24, "chamber_printed_seed2024")(d))),
     N(_CR_DOC, r"this difference is about ([\d.]+) times that scatter", CR,
@@ -689,9 +689,9 @@ ENTRIES += [
     N(_CR_DOC, r"ratio is 1.00 against the printed\s+reading's ([\d.]+), and", CR,
       _cr_ratio_of_mean(*_PRINTEDS)),
     N(_CR_DOC, r"and (\d+) % of the two seeds' 89 penetration", CR, _cr_pooled_fraction(*_PREP_CRUSH)),
-    N(_CR_DOC, r"of the two seeds' (\d+) penetration breaks lie", CR,
+    N(_CR_DOC, r"of the two seeds' (\d+) penetration breaks lie in\s+the zone\. Crushing", CR,
       _cr_sum("events_penetration", *_PREP_CRUSH)),
-    N(_CR_DOC, r"\(a ratio of ([\d.]+)\s+on its seeds' mean", CR, _cr_ratio_of_mean(*_PREP_CRUSH)),
+    N(_CR_DOC, r"\(a ratio of ([\d.]+)\s+on its seeds' mean, 45 %", CR, _cr_ratio_of_mean(*_PREP_CRUSH)),
     N(_CR_DOC, r"on its seeds' mean, (\d+) % of the penetration", CR, _cr_pooled_fraction(*_PREP_CRUSH)),
 ]
 ENTRIES += [
@@ -911,9 +911,9 @@ _PK24 = "chamber_peak_seed2024"
 ENTRIES += _cr_rows((
     (_N24, r"Steady q_c ([\d.]+) MPa, a ratio of 6.92", "qc_steady_MPa", 1.0),
     (_N24, r"a ratio of ([\d.]+) to the unbreakable reference; 391", "ratio", 1.0),
-    (_N24, r"reference; (\d+) break events: 125 at switch-on", "n_break_events", 1.0),
+    (_N24, r"reference; (\d+) break events: 125 at switch-on, 38", "n_break_events", 1.0),
     (_N24, r"391 break events: (\d+) at switch-on", "events_switch_on", 1.0),
-    (_N24, r"125 at switch-on, (\d+) at entry", "events_entry", 1.0),
+    (_N24, r"125 at switch-on, (\d+) at entry, and of the 228", "events_entry", 1.0),
     (_N24, r"of the (\d+) during penetration 144", "events_penetration", 1.0),
     (_N24, r"during penetration (\d+) in the zone \(63", "events_in_zone", 1.0),
     (_N24, r"144 in the zone \((\d+) %\)", "fraction_in_zone", 100.0),
@@ -936,6 +936,48 @@ ENTRIES += [
       lambda d: _cr_piece(_N24, "Br_penetrated_1_2R")(d) / _cr_printed("Br_penetrated_1_2R")(d)),
     N(_CR_DOC, r"while q_c falls to (\d+) % of the unbreakable", CR,
       lambda d: 100.0 * _cr_piece(_N24, "qc_steady_MPa")(d) / _cr_unbreakable_qc()),
+]
+
+# the bracket's second seed (the eighteenth piece), both seeds, and the decision's last sentences
+_N25 = "chamber_no_N_seed2025"
+_NOS = (_N24, _N25)
+ENTRIES += _cr_rows((
+    (_N25, r"Steady q_c ([\d.]+) MPa, a ratio of 6.96", "qc_steady_MPa", 1.0),
+    (_N25, r"a ratio of ([\d.]+) to the unbreakable reference; 397", "ratio", 1.0),
+    (_N25, r"reference; (\d+) break events: 125 at switch-on, 64", "n_break_events", 1.0),
+    (_N25, r"397 break events: (\d+) at switch-on", "events_switch_on", 1.0),
+    (_N25, r"125 at switch-on, (\d+) at entry, and of the 208", "events_entry", 1.0),
+    (_N25, r"of the (\d+) during penetration 127", "events_penetration", 1.0),
+    (_N25, r"during penetration (\d+) in the zone \(61", "events_in_zone", 1.0),
+    (_N25, r"127 in the zone \((\d+) %\)", "fraction_in_zone", 100.0),
+    (_N25, r"\(61 %\), (\d+) beyond 5 R", "events_beyond_5R_below", 1.0),
+    (_N25, r"Br is ([\d.]+) in 1-2 R and 0.13 in 2-3 R", "Br_penetrated_1_2R", 1.0),
+    (_N25, r"0.34 in 1-2 R and ([\d.]+) in 2-3 R\. The first", "Br_penetrated_2_3R", 1.0),
+))
+ENTRIES += [
+    N(_CR_DOC, r"the two seeds' q_c differ by ([\d.]+) %, and on their mean \(2.49", CR,
+      lambda d: abs(_cr_rise(_N24, _N25)(d))),
+    N(_CR_DOC, r"and on their mean \(([\d.]+) MPa\) the ratio is 6.94", CR, _cr_mean_qc(*_NOS)),
+    N(_CR_DOC, r"MPa\) the ratio is ([\d.]+), far above", CR, _cr_ratio_of_mean(*_NOS)),
+    N(_CR_DOC, r"; (\d+) % of the two seeds' 436 penetration", CR, _cr_pooled_fraction(*_NOS)),
+    N(_CR_DOC, r"of the two seeds' (\d+) penetration breaks lie in the zone; over", CR,
+      _cr_sum("events_penetration", *_NOS)),
+    N(_CR_DOC, r"over both seeds (\d+) grains break at switch-on", CR, _cr_sum("events_switch_on", *_NOS)),
+    N(_CR_DOC, r"at switch-on \(the printed reading (\d+)\), 48", CR, _cr_sum("events_switch_on", *_PRINTEDS)),
+    N(_CR_DOC, r"reading 44\), (\d+) beyond 5 R below the tip and 2 along", CR,
+      _cr_sum("events_beyond_5R_below", *_NOS)),
+    N(_CR_DOC, r"tip and (\d+) along the shaft \(both on the first", CR, _cr_sum("events_along_shaft", *_NOS)),
+    N(_CR_DOC, r"keeps only the triaxial range \(phi_cs ([\d.]+) deg\)", CR,
+      _cr_mean("phi_cs_deg", "triaxial_no_N", "triaxial_no_N_seed2025")),
+    N(_CR_DOC, r"over both seeds the printed reading (\d+) %, the peak", CR, _cr_pooled_fraction(*_PRINTEDS)),
+    N(_CR_DOC, r"the peak reading (\d+) %, this bracket", CR, _cr_pooled_fraction(*_PEAKS)),
+    N(_CR_DOC, r"this bracket (\d+) %\)\.", CR, _cr_pooled_fraction(*_NOS)),
+    N(_CR_DOC, r"\(Br ([\d.]+) in 1-2 R on its seeds'\s+mean", CR, _cr_mean("Br_penetrated_1_2R", *_NOS)),
+    N(_CR_DOC, r"mean, the printed reading ([\d.]+)\) and loses", CR,
+      _cr_mean("Br_penetrated_1_2R", *_PRINTEDS)),
+    N(_CR_DOC, r"\(a ratio\s+of ([\d.]+) on its seeds' mean\), with", CR, _cr_ratio_of_mean(*_NOS)),
+    N(_CR_DOC, r"with (\d+) % of the penetration breaks in the\s+zone, breaks along", CR,
+      _cr_pooled_fraction(*_NOS)),
 ]
 
 # docs/grain_models.md: its table, printed against peak, from the study's records
