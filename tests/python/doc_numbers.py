@@ -281,6 +281,11 @@ def _cr_drop(lower, upper):
 
 
 @functools.lru_cache(maxsize=None)
+def _cr_times(key, name, over):
+    """How many times piece `name`'s metric `key` is piece `over`'s."""
+    return lambda d: _cr_piece(name, key)(d) / _cr_piece(over, key)(d)
+
+
 def _cr_unbreakable_qc():
     """The pooled unbreakable reference q_c the study's ratios divide by
     (MPa): the mean over the error-vs-runtime study's two unbreakable
@@ -297,6 +302,7 @@ def _cr_rows(rows, doc=_CR_DOC):
             for piece, pattern, key, scale in rows]
 
 
+_P24 = "chamber_peak_seed2024"  # the peak reading's first seed; _P25 below
 ENTRIES += [
     N(_CR_DOC, r"The printed reading, seed 2024: steady q_c ([\d.]+) MPa", CR,
       _cr_printed("qc_steady_MPa")),
@@ -320,20 +326,20 @@ ENTRIES += [
      r"penetrated layers Br is ([\d.]+) in 1-2 R and 0.002", "Br_penetrated_1_2R", 1.0),
     ("chamber_peak_truncated_0.5_seed2024", r"0.018 in 1-2 R and ([\d.]+) in 2-3 R\. This",
      "Br_penetrated_2_3R", 1.0),
-    ("chamber_peak_seed2024", r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.43", "qc_steady_MPa", 1.0),
-    ("chamber_peak_seed2024", r"a ratio of ([\d.]+) to the unbreakable reference: inside",
+    (_P24, r"Steady q_c ([\d.]+)\s+MPa, a ratio of 1.43", "qc_steady_MPa", 1.0),
+    (_P24, r"a ratio of ([\d.]+) to the unbreakable reference: inside",
      "ratio", 1.0),
-    ("chamber_peak_seed2024", r"(\d+) break events: 39 at switch-on", "n_break_events", 1.0),
-    ("chamber_peak_seed2024", r"events: (\d+) at switch-on,\s+20 at entry",
+    (_P24, r"(\d+) break events: 39 at switch-on", "n_break_events", 1.0),
+    (_P24, r"events: (\d+) at switch-on,\s+20 at entry",
      "events_switch_on", 1.0),
-    ("chamber_peak_seed2024", r"of the (\d+) during penetration 51", "events_penetration", 1.0),
-    ("chamber_peak_seed2024", r"penetration 51 in the zone \((\d+) %\)", "fraction_in_zone",
+    (_P24, r"of the (\d+) during penetration 51", "events_penetration", 1.0),
+    (_P24, r"penetration 51 in the zone \((\d+) %\)", "fraction_in_zone",
      100.0),
-    ("chamber_peak_seed2024", r"in the zone \(55 %\), (\d+)\s+beyond 5 R",
+    (_P24, r"in the zone \(55 %\), (\d+)\s+beyond 5 R",
      "events_beyond_5R_below", 1.0),
-    ("chamber_peak_seed2024", r"Br is ([\d.]+) in 1-2 R and 0.068 in 2-3 R, four",
+    (_P24, r"Br is ([\d.]+) in 1-2 R and 0.068 in 2-3 R, four",
      "Br_penetrated_1_2R", 1.0),
-    ("chamber_peak_seed2024", r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
+    (_P24, r"0.140 in 1-2 R and ([\d.]+) in 2-3 R, four",
      "Br_penetrated_2_3R", 1.0),
 ))
 
@@ -347,7 +353,7 @@ _R25 = "chamber_printed_seed2025"
 _PRINTEDS = (_R24, _R25)
 _B25 = "chamber_peak_truncated_0.5_seed2025"
 _BOUNDED = ("chamber_peak_truncated_0.5_seed2024", _B25)
-_PEAKS = ("chamber_peak_seed2024", _P25)
+_PEAKS = (_P24, _P25)
 ENTRIES += _cr_rows((
     (_P25, r"Steady q_c ([\d.]+) MPa, a ratio of 1.31", "qc_steady_MPa", 1.0),
     (_P25, r"a ratio of ([\d.]+) to the\s+unbreakable reference; 153", "ratio", 1.0),
@@ -410,14 +416,13 @@ ENTRIES += [
       _cr_drop(_PRINTEDS[:1], (_T24,))),
     N(_CR_DOC, r"\(16.56 against ([\d.]+) MPa\)", CR, _cr_piece(_T24, "qc_steady_MPa")),
     N(_CR_DOC, r"in 1-2 R stands ([\d.]+) times above that floor", CR,
-      lambda d: _cr_printed("Br_penetrated_1_2R")(d) / _T24_FLOOR(d)),
+      _cr_times("Br_penetrated_1_2R", _R24, _T24)),
     N("docs/report.md", r"never broke \(bench/criterion_readings,\s+`chamber_truncated_0.5_seed2024`\) reads ([\d.]+) in 1-2 R",
       CR, _T24_FLOOR),
     N("docs/report.md", r"reads 0.0077 in 1-2 R and ([\d.]+) in\s+2-3 R", CR,
       _cr_piece(_T24, "Br_penetrated_2_3R")),
     N(_CR_DOC, r"0.018 only ([\d.]+) times\.", CR,
-      lambda d: _cr_piece("chamber_peak_truncated_0.5_seed2024", "Br_penetrated_1_2R")(d)
-      / _T24_FLOOR(d)),
+      _cr_times("Br_penetrated_1_2R", "chamber_peak_truncated_0.5_seed2024", _T24)),
 ]
 
 
@@ -465,12 +470,12 @@ ENTRIES += _cr_rows((
     (_PW24, r"0.121 in 1-2 R and ([\d.]+) in\s+2-3 R\. \*\*It", "Br_penetrated_2_3R", 1.0),
     (_PW24, r"switch-on against 39, (\d+) beyond 5 R against 18", "events_beyond_5R_below", 1.0),
     (_PW24, r"Br in 1-2 R ([\d.]+) against 0.140", "Br_penetrated_1_2R", 1.0),
-    ("chamber_peak_seed2024", r"packing \(seed 2024: q_c ([\d.]+) MPa, 151", "qc_steady_MPa", 1.0),
-    ("chamber_peak_seed2024", r"q_c 12.12 MPa, (\d+) events\) it keeps", "n_break_events", 1.0),
-    ("chamber_peak_seed2024", r"Br in 1-2 R 0.121 against ([\d.]+)\)", "Br_penetrated_1_2R", 1.0),
+    (_P24, r"packing \(seed 2024: q_c ([\d.]+) MPa, 151", "qc_steady_MPa", 1.0),
+    (_P24, r"q_c 12.12 MPa, (\d+) events\) it keeps", "n_break_events", 1.0),
+    (_P24, r"Br in 1-2 R 0.121 against ([\d.]+)\)", "Br_penetrated_1_2R", 1.0),
     (_PW24, r"(\d+) at switch-on against 39", "events_switch_on", 1.0),
-    ("chamber_peak_seed2024", r"11 at switch-on against (\d+)", "events_switch_on", 1.0),
-    ("chamber_peak_seed2024", r"5 beyond 5 R against (\d+)", "events_beyond_5R_below", 1.0),
+    (_P24, r"11 at switch-on against (\d+)", "events_switch_on", 1.0),
+    (_P24, r"5 beyond 5 R against (\d+)", "events_beyond_5R_below", 1.0),
     ("oedometer_peak_weibull", r"\(core void\s+ratio ([\d.]+) at 30 MPa against 0.52",
      "e_core_at_30MPa", 1.0),
     ("oedometer_printed", r"ratio 0.28 at 30 MPa against ([\d.]+), Br", "e_core_at_30MPa", 1.0),
@@ -512,7 +517,7 @@ ENTRIES += [
     N(_CR_DOC, r"below f = 0.2\s+against ([\d.]+) %", CR, lambda d: _below_f("normal", 0.2)),
     N(_CR_DOC, r"below f = 0.4 \(([\d.]+) against", CR, lambda d: _below_f("weibull", 0.4)),
     N(_CR_DOC, r"below f = 0.4 \(4.3 against ([\d.]+) %\)", CR, lambda d: _below_f("normal", 0.4)),
-    N(_CR_DOC, r"\(q_c within\s+(\d+) %", CR, _cr_drop(("chamber_peak_seed2024",), (_PW24,))),
+    N(_CR_DOC, r"\(q_c within\s+(\d+) %", CR, _cr_drop((_P24,), (_PW24,))),
     N(_CR_DOC, r"triaxial\s+phi_cs \(([\d.]+) deg, seed mean\)", CR, _cr_mean("phi_cs_deg", *_PW_TRI)),
     N(_CR_DOC, r"seed mean\) lies ([\d.]+) deg above", CR,
       lambda d: _cr_mean("phi_cs_deg", *_PW_TRI)(d) - _PHI_CS_MAX),
@@ -557,7 +562,7 @@ ENTRIES += _cr_rows((
     ("chamber_peak_seed2025", r"\(11 and 11 against\s+39 and (\d+)\)", "events_switch_on", 1.0),
     (_PW25, r"fewer beyond 5 R \(5 and (\d+) against", "events_beyond_5R_below", 1.0),
     ("chamber_peak_seed2025", r"against 18 and (\d+)\), puts", "events_beyond_5R_below", 1.0),
-    ("chamber_peak_seed2024", r"\(71 against\s+(\d+) %, 65", "fraction_in_zone", 100.0),
+    (_P24, r"\(71 against\s+(\d+) %, 65", "fraction_in_zone", 100.0),
     (_PW25, r"55 %, (\d+) against 48 %\)", "fraction_in_zone", 100.0),
     (_P25, r"65 against (\d+) %\), and costs", "fraction_in_zone", 100.0),
 ))
@@ -907,7 +912,6 @@ ENTRIES += [
 
 # the size term without N (the bracket; the seventeenth piece)
 _N24 = "chamber_no_N_seed2024"
-_PK24 = "chamber_peak_seed2024"
 ENTRIES += _cr_rows((
     (_N24, r"Steady q_c ([\d.]+) MPa, a ratio of 6.92", "qc_steady_MPa", 1.0),
     (_N24, r"a ratio of ([\d.]+) to the unbreakable reference; 391", "ratio", 1.0),
@@ -925,17 +929,17 @@ ENTRIES += _cr_rows((
     (_N24, r"(\d+) grains break at the step crushing switches on", "events_switch_on", 1.0),
     (_N24, r"on this packing\), (\d+) along the shaft, and the zone", "events_along_shaft", 1.0),
     (_N24, r"the zone takes (\d+) % of the penetration breaks, short", "fraction_in_zone", 100.0),
-    (_PK24, r"near the peak reading's ([\d.]+) on this packing", "ratio", 1.0),
+    (_P24, r"near the peak reading's ([\d.]+) on this packing", "ratio", 1.0),
     (_R24, r"10 times the printed reading's ([\d.]+) on this packing", "Br_penetrated_1_2R", 1.0),
     (_R24, r"switches on \(the printed reading (\d+), the peak", "events_switch_on", 1.0),
-    (_PK24, r"the peak reading (\d+) on this packing\), 2 along", "events_switch_on", 1.0),
+    (_P24, r"the peak reading (\d+) on this packing\), 2 along", "events_switch_on", 1.0),
 ))
 ENTRIES += [
     N(_CR_DOC, r"between the printed reading's ([\d.]+) \(seeds' mean\)", CR, _cr_ratio_of_mean(*_PRINTEDS)),
     N(_CR_DOC, r"0.35 in 1-2 R, (\d+) times the printed", CR,
-      lambda d: _cr_piece(_N24, "Br_penetrated_1_2R")(d) / _cr_printed("Br_penetrated_1_2R")(d)),
+      _cr_times("Br_penetrated_1_2R", _N24, _R24)),
     N(_CR_DOC, r"while q_c falls to (\d+) % of the unbreakable", CR,
-      lambda d: 100.0 * _cr_piece(_N24, "qc_steady_MPa")(d) / _cr_unbreakable_qc()),
+      lambda d: 100.0 / _cr_ratio(_N24)(d)),
 ]
 
 # the bracket's second seed (the eighteenth piece), both seeds, and the decision's last sentences
@@ -993,38 +997,38 @@ def _gm_cell(label, k):
 
 _GM_ROWS = {
     "chamber: steady q_c (MPa)": [_cr_printed("qc_steady_MPa"), _cr_piece(_R25, "qc_steady_MPa"),
-                                  _cr_piece("chamber_peak_seed2024", "qc_steady_MPa"),
+                                  _cr_piece(_P24, "qc_steady_MPa"),
                                   _cr_piece(_P25, "qc_steady_MPa"),
                                   _cr_piece("chamber_peak_weibull_seed2024", "qc_steady_MPa"),
                                   _cr_piece("chamber_peak_weibull_seed2025", "qc_steady_MPa")],
     "chamber: unbreakable / crushable q_c": [_cr_ratio(_R24), _cr_ratio(_R25),
                                              _cr_ratio_of_mean(*_PRINTEDS),
-                                             _cr_ratio("chamber_peak_seed2024"), _cr_ratio(_P25),
+                                             _cr_ratio(_P24), _cr_ratio(_P25),
                                              _cr_ratio_of_mean(*_PEAKS),
                                              _cr_ratio(_PW24), _cr_ratio(_PW25),
                                              _cr_ratio_of_mean(*_PWS)],
     "chamber: penetration breaks in the zone (r < 3 R, -5 R < h < 1.73 R)": [
         _cr_printed("fraction_in_zone", 100.0), _cr_piece(_R25, "fraction_in_zone", 100.0),
-        _cr_piece("chamber_peak_seed2024", "fraction_in_zone", 100.0),
+        _cr_piece(_P24, "fraction_in_zone", 100.0),
         _cr_piece(_P25, "fraction_in_zone", 100.0),
         _cr_piece(_PW24, "fraction_in_zone", 100.0), _cr_piece(_PW25, "fraction_in_zone", 100.0)],
     "chamber: breaks beyond 5 R below the tip / along the shaft": [
         _cr_printed("events_beyond_5R_below"), _cr_piece(_R25, "events_beyond_5R_below"),
         _cr_printed("events_along_shaft"), _cr_piece(_R25, "events_along_shaft"),
-        _cr_piece("chamber_peak_seed2024", "events_beyond_5R_below"),
+        _cr_piece(_P24, "events_beyond_5R_below"),
         _cr_piece(_P25, "events_beyond_5R_below"),
-        _cr_piece("chamber_peak_seed2024", "events_along_shaft"),
+        _cr_piece(_P24, "events_along_shaft"),
         _cr_piece(_P25, "events_along_shaft"),
         _cr_piece(_PW24, "events_beyond_5R_below"), _cr_piece(_PW25, "events_beyond_5R_below"),
         _cr_piece(_PW24, "events_along_shaft"), _cr_piece(_PW25, "events_along_shaft")],
     "chamber: breaks at switch-on": [_cr_printed("events_switch_on"), _cr_piece(_R25, "events_switch_on"),
-                                     _cr_piece("chamber_peak_seed2024", "events_switch_on"),
+                                     _cr_piece(_P24, "events_switch_on"),
                                      _cr_piece(_P25, "events_switch_on"),
                                      _cr_piece(_PW24, "events_switch_on"),
                                      _cr_piece(_PW25, "events_switch_on")],
     "chamber: Br over the penetrated layers, 1-2 R": [
         _cr_printed("Br_penetrated_1_2R"), _cr_piece(_R25, "Br_penetrated_1_2R"),
-        _cr_piece("chamber_peak_seed2024", "Br_penetrated_1_2R"),
+        _cr_piece(_P24, "Br_penetrated_1_2R"),
         _cr_piece(_P25, "Br_penetrated_1_2R"),
         _cr_piece(_PW24, "Br_penetrated_1_2R"), _cr_piece(_PW25, "Br_penetrated_1_2R")],
     "oedometer: core void ratio at 10 MPa": [_cr_piece("oedometer_printed", "e_core_at_10MPa"),
@@ -1071,12 +1075,12 @@ ENTRIES += [
     N(_GM_DOC, r"field, breaks its grains: (\d+) breaks at switch-on", CR,
       _cr_piece(_PW24, "events_switch_on")),
     N(_GM_DOC, r"on each seed against (\d+)-39", CR, _cr_piece(_P25, "events_switch_on")),
-    N(_GM_DOC, r"against 36-(\d+),", CR, _cr_piece("chamber_peak_seed2024", "events_switch_on")),
+    N(_GM_DOC, r"against 36-(\d+),", CR, _cr_piece(_P24, "events_switch_on")),
     N(_GM_DOC, r"\n?5 and (\d+) beyond 5 R below the tip against", CR,
       _cr_piece(_PW25, "events_beyond_5R_below")),
     N(_GM_DOC, r"the tip against 18 and (\d+), and 71", CR, _cr_piece(_P25, "events_beyond_5R_below")),
     N(_GM_DOC, r"penetration breaks in the zone against (\d+) and 48 %", CR,
-      _cr_piece("chamber_peak_seed2024", "fraction_in_zone", 100.0)),
+      _cr_piece(_P24, "fraction_in_zone", 100.0)),
     N(_GM_DOC, r"lies 0.4-([\d.]+) deg above", CR,
       lambda d: _cr_piece(_PW_TRI[0], "phi_cs_deg")(d) - _PHI_CS_MAX),
     N(_GM_DOC, r"printed model's first seed does by ([\d.]+) deg", CR,
@@ -1094,7 +1098,7 @@ ENTRIES += [
     N(_GM_DOC, r"27 % and (\d+) % seed by seed", CR, _cr_drop(_PEAKS[1:], _PRINTEDS[1:])),
     N(_GM_DOC, r"seeds agree on the crushing and differ in q_c by (\d+) %", CR,
       lambda d: 100.0 * (d["runs"][_P25]["metrics"]["qc_steady_MPa"]
-                         / d["runs"]["chamber_peak_seed2024"]["metrics"]["qc_steady_MPa"] - 1.0)),
+                         / d["runs"][_P24]["metrics"]["qc_steady_MPa"] - 1.0)),
 ]
 
 # the printed reading's ratio as the README and model.md quote it ("about N % more")
